@@ -1,0 +1,50 @@
+"""The ``abrakit`` command line: ``abrakit demo`` runs one small scene of each chapter in under a minute."""
+
+from __future__ import annotations
+
+import argparse
+import importlib
+import sys
+import time
+
+#: Chapter name -> module whose ``demo()`` returns a one-paragraph summary of a small scene.
+DEMOS = {
+    "tensors": "abrakit.tensors",
+}
+
+
+def run_demos(names=None, out=sys.stdout) -> dict[str, float]:
+    """Run the named chapter demos (all by default); print each summary and return the wall times in seconds."""
+    names = list(names or DEMOS)
+    unknown = [n for n in names if n not in DEMOS]
+    if unknown:
+        raise ValueError(f"unknown demo(s) {unknown}; choose from {list(DEMOS)}")
+    times = {}
+    for name in names:
+        start = time.perf_counter()
+        summary = importlib.import_module(DEMOS[name]).demo()
+        times[name] = time.perf_counter() - start
+        print(f"== {name} ({times[name]:.1f} s)\n{summary}\n", file=out, flush=True)
+    print(f"all demos: {sum(times.values()):.1f} s", file=out)
+    return times
+
+
+def main(argv=None) -> int:
+    parser = argparse.ArgumentParser(prog="abrakit", description=__doc__)
+    sub = parser.add_subparsers(dest="command", required=True)
+    demo = sub.add_parser("demo", help="run one small scene of each chapter")
+    demo.add_argument("names", nargs="*", help=f"chapters to run (default all): {', '.join(DEMOS)}")
+    sub.add_parser("list", help="list the chapter demos")
+    args = parser.parse_args(argv)
+    if args.command == "list":
+        print("\n".join(DEMOS))
+        return 0
+    try:
+        run_demos(args.names)
+    except ValueError as exc:
+        parser.error(str(exc))
+    return 0
+
+
+if __name__ == "__main__":  # pragma: no cover
+    sys.exit(main())

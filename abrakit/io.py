@@ -1,0 +1,115 @@
+"""Result files written as a run goes, so an interrupted run loses nothing already computed.
+
+- :class:`CurveWriter` appends one CSV row per step and flushes it at once.
+- :func:`write_json` writes atomically (temporary file, then rename).
+- :class:`VtuSeries` writes one ``.vtu`` per step with meshio and keeps a ParaView ``.pvd`` index current.
+"""
+
+from __future__ import annotations
+
+import csv
+import json
+import os
+from pathlib import Path
+
+import numpy as np
+
+
+def _jsonable(obj):
+    if isinstance(obj, dict):
+        return {str(k): _jsonable(v) for k, v in obj.items()}
+    if isinstance(obj, list | tuple):
+        return [_jsonable(v) for v in obj]
+    if isinstance(obj, np.ndarray):
+        return obj.tolist()
+    if isinstance(obj, np.generic):
+        return obj.item()
+    return obj
+
+
+def write_json(path, data) -> Path:
+    """Write ``data`` (dicts, lists, numpy values) as indented JSON, atomically."""
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    tmp = path.with_suffix(path.suffix + ".tmp")
+    tmp.write_text(json.dumps(_jsonable(data), indent=2))
+    os.replace(tmp, path)
+    return path
+
+
+def read_json(path):
+    return json.loads(Path(path).read_text())
+
+
+class CurveWriter:
+    """Append-only CSV of named columns; every row is flushed to disk when written.
+
+    >>> with CurveWriter("out/curve.csv", ["u", "F"]) as w:   # doctest: +SKIP
+    ...     w.write(u=0.1, F=2.0)
+    """
+
+    def __init__(self, path, columns, *, append: bool = False):
+        self.path = Path(path)
+        self.path.parent.mkdir(parents=True, exist_ok=True)
+        self.columns = list(columns)
+        resume = append and self.path.exists() and self.path.stat().st_size > 0
+        self._file = open(self.path, "a" if resume else "w", newline="")  # noqa: SIM115
+        self._writer = csv.writer(self._file)
+        if not resume:
+            self._writer.writerow(self.columns)
+            self._file.flush()
+
+    def write(self, **values) -> None:
+        missing = set(self.columns) - set(values)
+        extra = set(values) - set(self.columns)
+        if missing or extra:
+            raise ValueError(f"CurveWriter row must have columns {self.columns}; missing {missing}, extra {extra}")
+        self._writer.writerow([_jsonable(values[c]) for c in self.columns])
+        self._file.flush()
+
+    def close(self) -> None:
+        self._file.close()
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *exc):
+        self.close()
+
+
+def read_curve(path) -> dict[str, np.ndarray]:
+    """Read a :class:`CurveWriter` CSV back as a dict of float arrays."""
+    with open(path, newline="") as fh:
+        rows = list(csv.reader(fh))
+    header, body = rows[0], rows[1:]
+    data = np.array(body, dtype=float).reshape(len(body), len(header))
+    return {name: data[:, i] for i, name in enumerate(header)}
+
+
+class VtuSeries:
+    """A time series of meshio ``.vtu`` files plus a ParaView ``.pvd`` collection, rewritten after each step."""
+
+    def __init__(self, directory, stem: str = "step"):
+        self.directory = Path(directory)
+        self.directory.mkdir(parents=True, exist_ok=True)
+        self.stem = stem
+        self.entries: list[tuple[float, str]] = []
+
+    def write(self, time: float, points, cells, point_data=None, cell_data=None) -> Path:
+        """Write one step. ``cells`` is a list of ``(cell_type, connectivity)`` as meshio expects."""
+        import meshio
+
+        name = f"{self.stem}_{len(self.entries):05d}.vtu"
+        mesh = meshio.Mesh(points, cells, point_data=point_data or {}, cell_data=cell_data or {})
+        mesh.write(self.directory / name)
+        self.entries.append((float(time), name))
+        self._write_index()
+        return self.directory / name
+
+    def _write_index(self) -> None:
+        lines = ['<?xml version="1.0"?>', '<VTKFile type="Collection" version="0.1">', "  <Collection>"]
+        lines += [f'    <DataSet timestep="{t:.9g}" file="{f}"/>' for t, f in self.entries]
+        lines += ["  </Collection>", "</VTKFile>", ""]
+        tmp = self.directory / f"{self.stem}.pvd.tmp"
+        tmp.write_text("\n".join(lines))
+        os.replace(tmp, self.directory / f"{self.stem}.pvd")

@@ -1,0 +1,97 @@
+"""Input checks shared by every module: each failure names the parameter and the allowed range.
+
+All checks return the (converted) value so they can be used inline::
+
+    nu = check_range("nu", nu, -1.0, 0.5, high_open=True)
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterable
+
+import numpy as np
+
+
+def _describe(low, high, low_open, high_open) -> str:
+    left = "(" if low_open else "["
+    right = ")" if high_open else "]"
+    lo = "-inf" if low is None else f"{low:g}"
+    hi = "inf" if high is None else f"{high:g}"
+    return f"{left}{lo}, {hi}{right}"
+
+
+def check_finite(name: str, value):
+    """Return ``value`` as a float array (or float) and raise ``ValueError`` if any entry is NaN or infinite."""
+    try:
+        arr = np.asarray(value, dtype=float)
+    except (TypeError, ValueError) as exc:
+        raise TypeError(f"{name} must be a real number or array of real numbers, got {value!r}") from exc
+    if not np.all(np.isfinite(arr)):
+        raise ValueError(f"{name} must be finite, got {value!r}")
+    return float(arr) if arr.ndim == 0 else arr
+
+
+def check_range(name: str, value, low=None, high=None, *, low_open: bool = False, high_open: bool = False):
+    """Return ``value`` if every entry lies in the interval, else raise ``ValueError`` naming it.
+
+    ``low``/``high`` of ``None`` mean unbounded; ``*_open`` excludes the end point.
+    """
+    arr = np.asarray(check_finite(name, value))
+    bad = np.zeros(arr.shape, dtype=bool)
+    if low is not None:
+        bad |= (arr <= low) if low_open else (arr < low)
+    if high is not None:
+        bad |= (arr >= high) if high_open else (arr > high)
+    if np.any(bad):
+        shown = arr if arr.ndim == 0 else arr[bad].ravel()[:3]
+        raise ValueError(
+            f"{name} must lie in {_describe(low, high, low_open, high_open)}, got {shown!r}"
+        )
+    return float(arr) if arr.ndim == 0 else arr
+
+
+def check_positive(name: str, value, *, allow_zero: bool = False):
+    """Raise ``ValueError`` unless ``value`` > 0 (or >= 0 with ``allow_zero``) everywhere."""
+    return check_range(name, value, 0.0, None, low_open=not allow_zero)
+
+
+def check_poisson(name: str, nu):
+    """Poisson's ratio of an isotropic, positive-definite elastic solid: -1 < nu < 1/2."""
+    return check_range(name, nu, -1.0, 0.5, low_open=True, high_open=True)
+
+
+def check_option(name: str, value, allowed: Iterable[str]):
+    """Raise ``ValueError`` unless ``value`` is one of ``allowed``."""
+    allowed = tuple(allowed)
+    if value not in allowed:
+        raise ValueError(f"{name} must be one of {allowed}, got {value!r}")
+    return value
+
+
+def check_shape(name: str, array, shape: tuple):
+    """Raise ``ValueError`` unless ``array`` has ``shape``; ``None`` or ``...`` entries match any length.
+
+    A leading ``...`` matches any number of leading axes (batched input).
+    """
+    arr = np.asarray(array)
+    want = tuple(shape)
+    if want and want[0] is Ellipsis:
+        tail = want[1:]
+        ok = arr.ndim >= len(tail) and all(
+            w is None or w == s for w, s in zip(tail, arr.shape[arr.ndim - len(tail):], strict=True)
+        )
+    else:
+        ok = arr.ndim == len(want) and all(w is None or w == s for w, s in zip(want, arr.shape, strict=True))
+    if not ok:
+        shown = tuple("..." if w is Ellipsis else ("any" if w is None else w) for w in want)
+        raise ValueError(f"{name} must have shape {shown}, got {arr.shape}")
+    return arr
+
+
+def broadcast_shapes(**arrays) -> tuple:
+    """Common broadcast shape of the named arrays; a mismatch raises ``ValueError`` naming all of them."""
+    try:
+        return np.broadcast_shapes(*(np.shape(a) for a in arrays.values()))
+    except ValueError as exc:
+        shapes = ", ".join(f"{k}{np.shape(v)}" for k, v in arrays.items())
+        raise ValueError(f"shapes do not broadcast: {shapes}") from exc

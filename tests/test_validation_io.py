@@ -1,0 +1,63 @@
+"""Tests of the shared input checks and of the result files written as a run goes."""
+
+import numpy as np
+import pytest
+
+from abrakit import io, validation as V
+
+
+def test_range_checks_name_the_parameter_and_the_interval():
+    assert V.check_range("x", 0.5, 0, 1) == 0.5
+    with pytest.raises(ValueError, match=r"nu must lie in \(-1, 0.5\)"):
+        V.check_poisson("nu", 0.5)
+    with pytest.raises(ValueError, match=r"kn must lie in \(0, inf\]"):
+        V.check_positive("kn", [1.0, -2.0])
+    assert V.check_positive("kn", 0.0, allow_zero=True) == 0.0
+    with pytest.raises(ValueError, match="d must be finite"):
+        V.check_range("d", np.nan, 0, 1)
+    with pytest.raises(TypeError, match="d must be a real number"):
+        V.check_range("d", "abc", 0, 1)
+
+
+def test_option_and_shape_checks():
+    assert V.check_option("kind", "a", ("a", "b")) == "a"
+    with pytest.raises(ValueError, match="kind must be one of"):
+        V.check_option("kind", "c", ("a", "b"))
+    V.check_shape("eps", np.zeros((4, 2, 6)), (..., 6))
+    V.check_shape("eps", np.zeros((4, 6)), (None, 6))
+    with pytest.raises(ValueError, match=r"eps must have shape \('...', 6\)"):
+        V.check_shape("eps", np.zeros((4, 5)), (..., 6))
+    assert V.broadcast_shapes(a=np.zeros(3), b=1.0) == (3,)
+    with pytest.raises(ValueError, match=r"a\(3,\), b\(2,\)"):
+        V.broadcast_shapes(a=np.zeros(3), b=np.zeros(2))
+
+
+def test_curve_writer_keeps_rows_of_an_interrupted_run(tmp_path):
+    path = tmp_path / "curve.csv"
+    w = io.CurveWriter(path, ["u", "F"])
+    w.write(u=0.0, F=0.0)
+    w.write(u=0.1, F=np.float64(2.5))
+    # no close(): the rows are on disk already
+    data = io.read_curve(path)
+    np.testing.assert_array_equal(data["F"], [0.0, 2.5])
+    w.close()
+    with io.CurveWriter(path, ["u", "F"], append=True) as w2:
+        w2.write(u=0.2, F=3.0)
+    assert len(io.read_curve(path)["u"]) == 3
+    with pytest.raises(ValueError, match="missing"), io.CurveWriter(tmp_path / "x.csv", ["a"]) as w3:
+        w3.write(b=1)
+
+
+def test_json_and_vtu_series(tmp_path):
+    p = io.write_json(tmp_path / "r.json", {"a": np.arange(3), "b": np.float64(1.5)})
+    assert io.read_json(p) == {"a": [0, 1, 2], "b": 1.5}
+    series = io.VtuSeries(tmp_path / "fields")
+    pts = np.array([[0.0, 0, 0], [1, 0, 0], [0, 1, 0]])
+    for t in (0.0, 1.0):
+        series.write(t, pts, [("triangle", np.array([[0, 1, 2]]))], point_data={"u": pts * t})
+    pvd = (tmp_path / "fields" / "step.pvd").read_text()
+    assert pvd.count("<DataSet") == 2
+    import meshio
+
+    m = meshio.read(tmp_path / "fields" / "step_00001.vtu")
+    np.testing.assert_allclose(m.point_data["u"], pts)
