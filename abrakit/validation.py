@@ -43,7 +43,7 @@ def check_range(name: str, value, low=None, high=None, *, low_open: bool = False
     if high is not None:
         bad |= (arr >= high) if high_open else (arr > high)
     if np.any(bad):
-        shown = arr if arr.ndim == 0 else arr[bad].ravel()[:3]
+        shown = float(arr) if arr.ndim == 0 else arr[bad].ravel()[:3]
         raise ValueError(
             f"{name} must lie in {_describe(low, high, low_open, high_open)}, got {shown!r}"
         )
