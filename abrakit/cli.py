@@ -12,6 +12,7 @@ DEMOS = {
     "tensors": "abrakit.tensors",
     "identification": "abrakit.identification",
     "wear": "abrakit.wear",
+    "scratch": "abrakit.scratch",
 }
 
 
