@@ -10,6 +10,7 @@ import time
 #: Chapter name -> module whose ``demo()`` returns a one-paragraph summary of a small scene.
 DEMOS = {
     "tensors": "abrakit.tensors",
+    "evolution": "abrakit.evolution",
     "identification": "abrakit.identification",
     "wear": "abrakit.wear",
     "scratch": "abrakit.scratch",

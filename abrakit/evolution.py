@@ -1,0 +1,665 @@
+"""Evolution laws from potentials: seed Ch. 2.6 (Eqs. 2.76-2.112) and the updates of Ch. 4 (Eqs. 4.47, 4.53).
+
+A generalized standard material is two potentials: the Helmholtz free energy Ψ(ε, λ) and the dissipation
+potential D(λ̇). The driving force is p = -∂Ψ/∂λ (Eq. 2.76); the principle of the minimum of the dissipation
+potential (PMDP) picks the rate λ̇ that minimises L = Ψ̇ + D (Eq. 2.104). Over one time step the same principle
+becomes the *incremental variational update*
+
+    λ_{m+1} = argmin_λ  Ψ(ε_{m+1}, λ) + Δt · D((λ - λ_m) / Δt),
+
+solved numerically here for any Ψ and D (:func:`variational_update`) and in closed form for two 1D models
+(:class:`Damage1D`, :class:`Plasticity1D`) under every time discretisation listed after Eq. (2.110).
+
+Units: any consistent set; the book uses MPa and s, so Ψ, p and r1 are in MPa, D in MPa/s, r2 in MPa·s,
+λ̇ in 1/s and Δt in s.
+
+Decisions (``REFERENCE.md``): Eq. (2.112)'s switch "|p| > r2" is a misprint for "|p| > r1"; Eq. (4.53) is read
+as λ^{m+1} = λ^m + Δt/r2 · [|p(ε^{m+1}, λ^m)| - r1]_+. For a driving force that can change sign (plasticity)
+the rate carries sgn(p), which the seed omits because its damage driving force is never negative.
+"""
+
+from __future__ import annotations
+
+import time as _time
+import warnings
+from dataclasses import dataclass
+from typing import NamedTuple
+
+import numpy as np
+from scipy.integrate import solve_ivp
+from scipy.optimize import minimize_scalar
+from scipy.special import wrightomega
+
+from .validation import check_option, check_positive
+
+__all__ = [
+    "SCHEMES",
+    "Damage1D",
+    "DamageState",
+    "Dissipation",
+    "NonConvexWarning",
+    "PlasticState",
+    "Plasticity1D",
+    "convergence_study",
+    "demo",
+    "elasto_viscoplastic",
+    "observed_order",
+    "rate_dependent",
+    "rate_dependent_update",
+    "rate_independent",
+    "reference_solution",
+    "simulate",
+    "variational_update",
+]
+
+#: Time discretisations listed after Eq. (2.110): (time level of the strain, time level of λ) in p(ε, λ).
+SCHEMES = {
+    "explicit": ("m", "m"),  # p(ε^m, λ^m): forward Euler
+    "implicit": ("m+1", "m+1"),  # p(ε^{m+1}, λ^{m+1}): backward Euler
+    "split": ("m+1", "m"),  # p(ε^{m+1}, λ^m): operator split used by the seed's FEM, Eqs. (4.47), (4.53)
+    "split_reverse": ("m", "m+1"),  # p(ε^m, λ^{m+1}): the other operator split
+}
+
+
+def _plus(x):
+    """Macaulay bracket [x]_+ = (x + |x|)/2 (after Eq. 2.111)."""
+    return 0.5 * (x + np.abs(x))
+
+
+# ----------------------------------------------------------------------------------------------------------
+# Dissipation potentials, Eqs. (2.78)-(2.80), their conjugates and yield functions, Eqs. (2.105)-(2.111)
+# ----------------------------------------------------------------------------------------------------------
+
+
+@dataclass(frozen=True)
+class Dissipation:
+    """Dissipation potential D(λ̇) = r1 |λ̇| + r2/2 λ̇², Eq. (2.80).
+
+    ``r2 = 0`` is the rate-independent potential of Eq. (2.78), ``r1 = 0`` the rate-dependent one of
+    Eq. (2.79). ``r1`` [MPa] ≥ 0 is the dissipation parameter (threshold), ``r2`` [MPa·s] ≥ 0 the viscosity.
+    """
+
+    r1: float = 0.0
+    r2: float = 0.0
+
+    def __post_init__(self):
+        object.__setattr__(self, "r1", check_positive("r1", self.r1, allow_zero=True))
+        object.__setattr__(self, "r2", check_positive("r2", self.r2, allow_zero=True))
+
+    @property
+    def is_rate_independent(self) -> bool:
+        """True for Eq. (2.78): no viscosity, the evolution follows from the yield condition alone."""
+        return self.r2 == 0.0
+
+    def value(self, rate):
+        """D(λ̇) = r1 |λ̇| + r2/2 λ̇² [MPa/s], Eqs. (2.78)-(2.80)."""
+        rate = np.asarray(rate, dtype=float)
+        return self.r1 * np.abs(rate) + 0.5 * self.r2 * rate**2
+
+    def subdifferential(self, rate):
+        """∂D(λ̇) as an interval (lower, upper) [MPa]: r1 sgn λ̇ + r2 λ̇, and [-r1, r1] at λ̇ = 0."""
+        rate = np.asarray(rate, dtype=float)
+        lower = np.where(rate > 0, self.r1, -self.r1) + self.r2 * rate
+        upper = np.where(rate < 0, -self.r1, self.r1) + self.r2 * rate
+        return lower, upper
+
+    def derivative(self, rate):
+        """∂D/∂λ̇ = r1 sgn λ̇ + r2 λ̇ [MPa] (the dissipative force of Eq. 2.88 up to sign).
+
+        At λ̇ = 0 the potential has a kink for r1 > 0; the element of the subdifferential of least modulus (0)
+        is returned there.
+        """
+        rate = np.asarray(rate, dtype=float)
+        return self.r1 * np.sign(rate) + self.r2 * rate
+
+    def conjugate(self, p):
+        """Legendre–Fenchel conjugate D*(p) = sup_λ̇ {p λ̇ - D(λ̇)} [MPa/s], Eq. (2.106).
+
+        r2 > 0: D* = [|p| - r1]_+² / (2 r2). r2 = 0: the indicator of the elastic domain, 0 for |p| ≤ r1 and
+        +inf outside (the supremum of Eq. 2.106 is unbounded there).
+        """
+        p = np.asarray(p, dtype=float)
+        excess = _plus(np.abs(p) - self.r1)
+        if self.is_rate_independent:
+            return np.where(excess > 0, np.inf, 0.0)
+        return excess**2 / (2.0 * self.r2)
+
+    def yield_function(self, p, *, squared: bool = False):
+        """Φ = |p| - r1 (Eq. 2.108) or Φ = p² - r1² (Eq. 2.107) [MPa or MPa²]; both ≤ 0 in the elastic domain."""
+        p = np.asarray(p, dtype=float)
+        return p**2 - self.r1**2 if squared else np.abs(p) - self.r1
+
+    def require_rate_dependence(self) -> None:
+        """Raise ``ValueError`` for r2 = 0, where no single rate exists."""
+        if self.is_rate_independent:
+            raise ValueError(
+                "r2 must be > 0 for a rate law: with r2 = 0 (Eq. 2.78) λ̇ = Δρ p is fixed by the "
+                "Kuhn–Tucker conditions (2.110), use a rate-independent update"
+            )
+
+    def rate(self, p):
+        """Evolution law λ̇ = sgn(p) [|p| - r1]_+ / r2 [1/s], Eq. (2.111); λ̇ = ∂D*/∂p.
+
+        The seed writes it without sgn(p) since its damage driving force is non-negative. For r2 = 0 the rate
+        is set-valued (Eq. 2.105, λ̇ = Δρ p with an unknown consistency parameter) and this raises.
+        """
+        self.require_rate_dependence()
+        p = np.asarray(p, dtype=float)
+        return np.sign(p) * _plus(np.abs(p) - self.r1) / self.r2
+
+
+def rate_independent(r1) -> Dissipation:
+    """D = r1 |λ̇|, Eq. (2.78), r1 [MPa] ≥ 0."""
+    return Dissipation(r1=r1, r2=0.0)
+
+
+def rate_dependent(r2) -> Dissipation:
+    """D = r2/2 λ̇², Eq. (2.79), r2 [MPa·s] > 0."""
+    return Dissipation(r1=0.0, r2=check_positive("r2", r2))
+
+
+def elasto_viscoplastic(r1, r2) -> Dissipation:
+    """D = r1 |λ̇| + r2/2 λ̇², Eq. (2.80), r1 [MPa] ≥ 0 and r2 [MPa·s] > 0."""
+    return Dissipation(r1=r1, r2=check_positive("r2", r2))
+
+
+def rate_dependent_update(lam_m, p, dt, dissipation: Dissipation):
+    """λ^{m+1} = λ^m + Δt/r2 · sgn(p) [|p| - r1]_+, Eq. (2.112) read with the switch |p| > r1, and Eq. (4.53).
+
+    ``p`` [MPa] is the driving force at whichever time levels the scheme chooses (Eq. 4.53: p(ε^{m+1}, λ^m)).
+    The printed Eq. (2.112) switches on |p| > r2, which compares a stress with a viscosity (MPa vs MPa·s) and
+    lets λ decrease for r2 < |p| < r1; the printed Eq. (4.53) lacks the bracket, so p = 0 would still change λ.
+    """
+    dt = check_positive("dt", dt)
+    return np.asarray(lam_m, dtype=float) + dt * dissipation.rate(p)
+
+
+# ----------------------------------------------------------------------------------------------------------
+# Incremental variational update, solved numerically for any Ψ and D
+# ----------------------------------------------------------------------------------------------------------
+
+
+class NonConvexWarning(UserWarning):
+    """The incremental potential has more than one local minimum on the search interval."""
+
+
+def variational_update(
+    free_energy,
+    dissipation: Dissipation,
+    eps,
+    lam_m,
+    dt,
+    *,
+    args=(),
+    width=1.0,
+    bounds=(-np.inf, np.inf),
+    grid: int = 41,
+    on_nonconvex: str = "warn",
+    max_expansions: int = 60,
+):
+    """λ_{m+1} = argmin_λ Ψ(ε_{m+1}, λ, *args) + Δt D((λ - λ_m)/Δt), the time-discrete PMDP (Eq. 2.104).
+
+    ``free_energy(eps, lam, *args)`` is any Ψ [MPa] vectorised in ``lam``; ``eps``, ``lam_m``, ``args`` and
+    ``width`` broadcast together (one scalar λ per material point). Per point the search:
+
+    1. scans a grid of ``grid`` points on [λ_m - w, λ_m + w] (λ_m itself included, where r1|·| has its kink),
+       doubling w while the lowest value sits on an end of the interval (``bounds`` are hard limits), and
+       widening it to any of the probe points λ_m ± 2^k w (k = 1…8) that is lower still;
+    2. refines every grid basin by bounded Brent minimisation on each side of the kink separately, where the
+       incremental potential is smooth, then polishes by Newton steps on a 4th-order finite-difference
+       derivative (Brent alone locates a minimum only to about √(machine ε));
+    3. returns the lowest candidate. More than one basin means Ψ is non-convex: a :class:`NonConvexWarning`
+       (``on_nonconvex="warn"``), a ``RuntimeError`` (``"raise"``) or nothing (``"ignore"``). The answer is then
+       the global minimum over the searched interval, resolved to the grid spacing; a well narrower than the
+       grid spacing, or beyond every probe point, can be missed (no finite search can rule that out).
+
+    A potential that keeps decreasing through ``max_expansions`` doublings raises ``RuntimeError``.
+    """
+    dt = check_positive("dt", dt)
+    check_option("on_nonconvex", on_nonconvex, ("warn", "raise", "ignore"))
+    if int(grid) < 5:
+        raise ValueError(f"grid must be >= 5 points, got {grid!r}")
+    lo, hi = (float(b) for b in bounds)
+    if not lo < hi:
+        raise ValueError(f"bounds must satisfy lower < upper, got {bounds!r}")
+    arrays = np.broadcast_arrays(
+        np.asarray(eps, dtype=float), np.asarray(lam_m, dtype=float), np.asarray(width, dtype=float),
+        *(np.asarray(a, dtype=float) for a in args),
+    )
+    eps_b, lam_b, width_b, args_b = arrays[0], arrays[1], arrays[2], arrays[3:]
+    check_positive("width", width_b)
+    if np.any(lam_b < lo) or np.any(lam_b > hi):
+        raise ValueError(f"lam_m must lie within bounds {bounds!r}")
+    out = np.empty(lam_b.shape)
+    for idx in np.ndindex(lam_b.shape):
+        point_args = tuple(a[idx] for a in args_b)
+        lam_old = lam_b[idx]
+
+        def incremental_potential(lam, e=eps_b[idx], a=point_args, l0=lam_old):
+            return free_energy(e, lam, *a) + dt * dissipation.value((lam - l0) / dt)
+
+        out[idx] = _argmin_with_kink(
+            incremental_potential, lam_old, width_b[idx], lo, hi, int(grid), on_nonconvex, max_expansions
+        )
+    return out[()] if out.ndim == 0 else out
+
+
+def _evaluate(F, lam):
+    """F on an array of λ; point by point when the user's Ψ is not vectorised."""
+    try:
+        values = np.asarray(F(lam), dtype=float)
+    except (TypeError, ValueError):
+        values = None
+    if values is None or values.shape != np.shape(lam):
+        values = np.array([float(F(x)) for x in np.ravel(lam)]).reshape(np.shape(lam))
+    if not np.all(np.isfinite(values)):
+        raise ValueError("free_energy returned a non-finite value on the search interval; restrict bounds")
+    return values
+
+
+_PROBE = 2.0 ** np.arange(1, 9)  # probe distances, in search half-widths, of a search for a distant well
+
+
+def _argmin_with_kink(F, center, width, lo, hi, n, on_nonconvex, max_expansions):
+    """Global minimiser of the scalar F on [lo, hi] near ``center``, where F may have a kink."""
+    for _ in range(max_expansions):
+        a, b = max(center - width, lo), min(center + width, hi)
+        half = n // 2 + 1  # the kink λ_m is a grid point, with n//2 cells on each side
+        lam = np.concatenate((np.linspace(a, center, half)[:-1], np.linspace(center, b, half)))
+        lam = lam[np.concatenate(([True], np.diff(lam) > 0))]  # drop repeats where λ_m sits on a bound
+        values = _evaluate(F, lam)
+        k = int(np.argmin(values))
+        if (k == 0 and a > lo) or (k == lam.size - 1 and b < hi):
+            width *= 2.0
+            continue
+        # probe far beyond the interval for a lower value, i.e. a distant well of a non-convex Ψ
+        ladder = center + width * np.concatenate((-_PROBE, _PROBE))
+        ladder = ladder[(ladder >= lo) & (ladder <= hi)]
+        lower = ladder[_evaluate(F, ladder) < values[k]] if ladder.size else ladder
+        if lower.size:
+            width = float(np.max(np.abs(lower - center)))
+            continue
+        break
+    else:
+        raise RuntimeError(
+            f"variational_update: the incremental potential keeps decreasing at λ = {lam[k]:.6g} after "
+            f"{max_expansions} doublings of the search interval; is Ψ bounded below?"
+        )
+    # grid basins: indices not higher than their neighbours, runs of equal values counted once
+    padded = np.concatenate(([np.inf], values, [np.inf]))
+    is_min = (padded[1:-1] <= padded[:-2]) & (padded[1:-1] <= padded[2:])
+    basins = np.flatnonzero(is_min & ~np.concatenate(([False], is_min[:-1])))
+    candidates = [center]
+    for i in basins:
+        left, right = lam[max(i - 1, 0)], lam[min(i + 1, lam.size - 1)]
+        for l_, r_ in ((left, min(right, center)), (max(left, center), right)):
+            if r_ > l_:  # a bracket on one smooth side of the kink
+                candidates.append(_refine(F, l_, r_, center, lo, hi))
+    candidates = np.array(candidates)
+    values_c = _evaluate(F, candidates)
+    best = candidates[int(np.argmin(values_c))]
+    if basins.size > 1 and on_nonconvex != "ignore":
+        msg = (
+            f"incremental potential is non-convex: {basins.size} local minima near λ = "
+            f"{np.array2string(lam[basins], precision=4)}; returned the lowest, λ = {best:.6g} (global on the "
+            f"searched interval [{a:.4g}, {b:.4g}] up to the grid spacing {np.max(np.diff(lam)):.3g})"
+        )
+        if on_nonconvex == "raise":
+            raise RuntimeError(msg)
+        warnings.warn(msg, NonConvexWarning, stacklevel=4)
+    return float(best)
+
+
+def _refine(F, left, right, kink, lo, hi):
+    """Minimise F on [left, right], a bracket on which F is smooth (the kink is at most an end point).
+
+    Newton polishing uses a 5-point stencil x ± 2h that stays on x's side of the kink and within [lo, hi].
+    """
+    x = minimize_scalar(lambda t: float(_evaluate(F, np.array([t]))[0]), bounds=(left, right), method="bounded",
+                        options={"xatol": 1e-14 * max(right - left, 1e-300), "maxiter": 500}).x
+    x_brent, f_brent = x, float(_evaluate(F, np.array([x]))[0])
+    side = np.sign(x - kink)
+    h = 1e-3 * (right - left)
+    for _ in range(8):
+        h = min(h, (x - lo) / 3.0, (hi - x) / 3.0, abs(x - kink) / 3.0 if side != 0 else np.inf)
+        if h <= 1e-12 * max(abs(x), right - left):
+            break
+        f = _evaluate(F, x + h * np.array([-2.0, -1.0, 0.0, 1.0, 2.0]))
+        grad = (f[0] - 8 * f[1] + 8 * f[3] - f[4]) / (12 * h)
+        curv = (f[1] - 2 * f[2] + f[3]) / h**2
+        if not curv > 0:
+            break
+        x_new = float(np.clip(x - grad / curv, left, right))
+        if side != 0 and np.sign(x_new - kink) != side:
+            x_new = kink
+        done = abs(x_new - x) <= 1e-15 * max(abs(x), right - left)
+        x = x_new
+        if done:
+            break
+    f_new = float(_evaluate(F, np.array([x]))[0])
+    return x if f_new <= f_brent + 8 * np.finfo(float).eps * max(abs(f_brent), 1.0) else x_brent
+
+
+# ----------------------------------------------------------------------------------------------------------
+# Two 1D models with closed-form updates
+# ----------------------------------------------------------------------------------------------------------
+
+
+class _Model1D:
+    """Shared time stepping: the scheme picks the strain level and the λ level of the driving force."""
+
+    def update(self, state_m, eps_m, eps_new, dt, dissipation: Dissipation, scheme: str = "implicit", **kw):
+        """New state after one step, for a scheme of :data:`SCHEMES` or ``"variational"`` (numerical).
+
+        Rate-dependent: the λ level m gives a forward step λ^m + Δt λ̇(ε*, λ^m) (Eqs. 2.112, 4.53), the level
+        m+1 a backward step solved in closed form. Rate-independent: Δρ follows from the consistency condition
+        Φ(ε*, λ^{m+1}) = 0 (Eqs. 2.109, 2.110, 4.49) whatever the λ level; only the strain level ε* matters.
+        """
+        dt = check_positive("dt", dt)
+        if scheme == "variational":
+            return self.variational_step(eps_new, state_m, dt, dissipation, **kw)
+        strain_level, lambda_level = SCHEMES[check_option("scheme", scheme, (*SCHEMES, "variational"))]
+        eps_star = eps_new if strain_level == "m+1" else eps_m
+        if dissipation.is_rate_independent or lambda_level == "m+1":
+            return self.backward_step(eps_star, state_m, dt, dissipation)
+        return self.forward_step(eps_star, state_m, dt, dissipation)
+
+    def forward_step(self, eps, state_m, dt, dissipation: Dissipation):
+        """λ^{m+1} = λ^m + Δt λ̇(ε, λ^m): Eq. (2.112) (corrected switch) with p at (ε, λ^m), Eq. (4.53)."""
+        rates = self.state_rate(eps, state_m, dissipation)
+        return type(state_m)(*(np.asarray(x, float) + dt * r for x, r in zip(state_m, rates, strict=True)))
+
+    def consistency_parameter(self, eps, state_m, state):
+        """Δρ = |Δλ| / |p(ε, λ^{m+1})| [1/MPa], Eq. (2.105) in increments: λ^{m+1} - λ^m = Δρ p (Eq. 2.109)."""
+        step = np.abs(np.asarray(state[0], float) - np.asarray(state_m[0], float))
+        p = np.abs(self.driving_force(eps, state))
+        return np.divide(step, p, out=np.zeros(np.broadcast(step, p).shape), where=step > 0)
+
+
+class DamageState(NamedTuple):
+    d: np.ndarray
+
+
+@dataclass(frozen=True)
+class Damage1D(_Model1D):
+    """1D damage: Ψ = f(d) ½ E ε² with f = e^{-d} (``"exp"``, Model I) or (1 - d)² (``"quadratic"``, Model II).
+
+    ``E`` [MPa]. Driving force p = -∂Ψ/∂d = -f'(d) ½ E ε² ≥ 0 (Eq. 2.76), so damage never heals.
+    """
+
+    E: float
+    damage_function: str = "exp"
+
+    def __post_init__(self):
+        object.__setattr__(self, "E", check_positive("E", self.E))
+        check_option("damage_function", self.damage_function, ("exp", "quadratic"))
+
+    def initial_state(self, shape=()) -> DamageState:
+        return DamageState(np.zeros(shape))
+
+    def f(self, d):
+        d = np.asarray(d, dtype=float)
+        return np.exp(-d) if self.damage_function == "exp" else (1.0 - d) ** 2
+
+    def df(self, d):
+        d = np.asarray(d, dtype=float)
+        return -np.exp(-d) if self.damage_function == "exp" else -2.0 * (1.0 - d)
+
+    def undamaged_energy(self, eps):
+        """ψ0 = ½ E ε² [MPa]."""
+        return 0.5 * self.E * np.asarray(eps, dtype=float) ** 2
+
+    def free_energy(self, eps, state: DamageState):
+        """Ψ = f(d) ψ0 [MPa]."""
+        return self.f(state.d) * self.undamaged_energy(eps)
+
+    def stress(self, eps, state: DamageState):
+        """σ = ∂Ψ/∂ε = f(d) E ε [MPa] (Eq. 2.72)."""
+        return self.f(state.d) * self.E * np.asarray(eps, dtype=float)
+
+    def driving_force(self, eps, state: DamageState):
+        """p = -∂Ψ/∂d = -f'(d) ψ0 [MPa], Eq. (2.76)."""
+        return -self.df(state.d) * self.undamaged_energy(eps)
+
+    def yield_function(self, eps, state: DamageState, dissipation: Dissipation):
+        """Φ = |p| - r1 [MPa], Eq. (2.108)."""
+        return dissipation.yield_function(self.driving_force(eps, state))
+
+    def state_rate(self, eps, state: DamageState, dissipation: Dissipation):
+        """ḋ = [p - r1]_+ / r2 [1/s], Eq. (2.111)."""
+        return DamageState(dissipation.rate(self.driving_force(eps, state)))
+
+    def backward_step(self, eps, state_m: DamageState, dt, dissipation: Dissipation) -> DamageState:
+        """d^{m+1} with p(ε, d^{m+1}) in closed form (Eqs. 2.109, 2.111 backward in d).
+
+        Rate-independent (r2 = 0): consistency f'(d)ψ0 = -r1, so d = max(d^m, ln(ψ0/r1)) for ``"exp"`` and
+        max(d^m, 1 - r1/(2ψ0)) for ``"quadratic"``. Rate-dependent: d = d^m + a (p(d) - r1) with a = Δt/r2,
+        solved by the Wright ω function (Lambert W of e^z) for ``"exp"`` and linearly for ``"quadratic"``.
+        """
+        d_m = np.asarray(state_m.d, dtype=float)
+        psi0 = self.undamaged_energy(eps)
+        r1, r2 = dissipation.r1, dissipation.r2
+        active = self.driving_force(eps, state_m) > r1  # trial: Φ(ε, d^m) > 0
+        if dissipation.is_rate_independent and r1 == 0.0 and np.any(active & (psi0 > 0)):
+            raise ValueError("r1 must be > 0 for rate-independent damage: with no threshold d grows without bound")
+        psi0 = np.where(active, psi0, 1.0)  # keeps log/ratio finite off the active set
+        if self.damage_function == "exp":
+            if dissipation.is_rate_independent:
+                d_new = np.log(psi0 / max(r1, 1e-300))
+            else:
+                a = dt / r2
+                # y = d - d^m + a r1 solves y e^y = a ψ0 e^{a r1 - d^m}: y = ω(ln(a ψ0) + a r1 - d^m)
+                d_new = d_m - a * r1 + wrightomega(np.log(a * psi0) + a * r1 - d_m).real
+                for _ in range(2):  # Newton polish of the well-scaled residual (r2/Δt)(d - d^m) - (p - r1)
+                    g = (d_new - d_m) / a - (psi0 * np.exp(-d_new) - r1)
+                    d_new = d_new - g / (1.0 / a + psi0 * np.exp(-d_new))
+        else:
+            if dissipation.is_rate_independent:
+                d_new = 1.0 - r1 / (2.0 * psi0)
+            else:
+                a = dt / r2
+                d_new = (d_m + a * (2.0 * psi0 - r1)) / (1.0 + 2.0 * a * psi0)
+        return DamageState(np.where(active, np.maximum(d_new, d_m), d_m))
+
+    def forward_step(self, eps, state_m: DamageState, dt, dissipation: Dissipation) -> DamageState:
+        new = super().forward_step(eps, state_m, dt, dissipation)
+        if self.damage_function == "quadratic" and np.any(new.d > 1.0):
+            raise RuntimeError("forward step pushed d above 1 (f = (1 - d)² would grow again); reduce dt")
+        return new
+
+    def incremental_free_energy(self, state_m: DamageState):
+        """(Ψ(ε, d), args) for :func:`variational_update`."""
+        def psi(eps, d):
+            return self.f(d) * self.undamaged_energy(eps)
+
+        return psi, ()
+
+    def variational_step(self, eps, state_m: DamageState, dt, dissipation: Dissipation, **kw) -> DamageState:
+        """d^{m+1} by numerical minimisation of Ψ(ε, d) + Δt D((d - d^m)/Δt)."""
+        psi, args = self.incremental_free_energy(state_m)
+        bounds = (0.0, 1.0) if self.damage_function == "quadratic" else (0.0, np.inf)
+        kw = {"width": 1.0, "bounds": bounds} | kw
+        return DamageState(variational_update(psi, dissipation, eps, state_m.d, dt, args=args, **kw))
+
+
+class PlasticState(NamedTuple):
+    eps_p: np.ndarray
+    alpha: np.ndarray
+
+
+@dataclass(frozen=True)
+class Plasticity1D(_Model1D):
+    """1D plasticity with linear isotropic hardening: Ψ = ½ E (ε - εp)² + ½ K α², α̇ = |ε̇p|.
+
+    ``E``, ``K`` [MPa]. Driving force p = -∂Ψ/∂εp = E (ε - εp) = σ (Eq. 2.76); the hardening force -∂Ψ/∂α = -Kα
+    raises the threshold, Φ = |p| - (r1 + K α) (Eq. 2.108; compare Φp of Table 6.1 with "+", REFERENCE.md).
+    """
+
+    E: float
+    K: float = 0.0
+
+    def __post_init__(self):
+        object.__setattr__(self, "E", check_positive("E", self.E))
+        object.__setattr__(self, "K", check_positive("K", self.K, allow_zero=True))
+
+    def initial_state(self, shape=()) -> PlasticState:
+        return PlasticState(np.zeros(shape), np.zeros(shape))
+
+    def free_energy(self, eps, state: PlasticState):
+        """Ψ = ½ E (ε - εp)² + ½ K α² [MPa]."""
+        return 0.5 * self.E * (np.asarray(eps, float) - state.eps_p) ** 2 + 0.5 * self.K * state.alpha**2
+
+    def stress(self, eps, state: PlasticState):
+        """σ = E (ε - εp) [MPa] (Eq. 2.72)."""
+        return self.E * (np.asarray(eps, dtype=float) - state.eps_p)
+
+    def driving_force(self, eps, state: PlasticState):
+        """p = -∂Ψ/∂εp = E (ε - εp) [MPa], Eq. (2.76)."""
+        return self.stress(eps, state)
+
+    def yield_function(self, eps, state: PlasticState, dissipation: Dissipation):
+        """Φ = |p| - (r1 + K α) [MPa], Eq. (2.108) with hardening."""
+        return np.abs(self.driving_force(eps, state)) - (dissipation.r1 + self.K * np.asarray(state.alpha))
+
+    def state_rate(self, eps, state: PlasticState, dissipation: Dissipation):
+        """ε̇p = sgn(p) [Φ]_+ / r2, α̇ = |ε̇p| [1/s], Eq. (2.111) with the hardened threshold."""
+        dissipation.require_rate_dependence()
+        flow = _plus(self.yield_function(eps, state, dissipation)) / dissipation.r2
+        return PlasticState(np.sign(self.driving_force(eps, state)) * flow, flow)
+
+    def backward_step(self, eps, state_m: PlasticState, dt, dissipation: Dissipation) -> PlasticState:
+        """Return mapping with p(ε, λ^{m+1}): Δα = [Φ_trial]_+ / (E + K + r2/Δt), Δεp = sgn(p_trial) Δα.
+
+        r2 = 0 is the rate-independent update (2.109) with the consistency condition Φ(ε, λ^{m+1}) = 0 (2.110).
+        """
+        p_trial = self.driving_force(eps, state_m)
+        step = _plus(self.yield_function(eps, state_m, dissipation)) / (self.E + self.K + dissipation.r2 / dt)
+        return PlasticState(state_m.eps_p + np.sign(p_trial) * step, state_m.alpha + step)
+
+    def incremental_free_energy(self, state_m: PlasticState):
+        """(Ψ(ε, εp, εp^m, α^m), args) with α = α^m + |εp - εp^m| eliminated, for :func:`variational_update`."""
+        def psi(eps, eps_p, eps_p_m, alpha_m):
+            alpha = alpha_m + np.abs(eps_p - eps_p_m)
+            return 0.5 * self.E * (eps - eps_p) ** 2 + 0.5 * self.K * alpha**2
+
+        return psi, (state_m.eps_p, state_m.alpha)
+
+    def variational_step(self, eps, state_m: PlasticState, dt, dissipation: Dissipation, **kw) -> PlasticState:
+        """εp^{m+1} by numerical minimisation of Ψ(ε, εp) + Δt D((εp - εp^m)/Δt); α follows from α̇ = |ε̇p|."""
+        psi, args = self.incremental_free_energy(state_m)
+        gap = np.abs(np.asarray(eps, float) - state_m.eps_p)  # the minimiser lies between εp^m and ε
+        kw = {"width": np.where(gap > 0, gap, 1.0)} | kw
+        eps_p = variational_update(psi, dissipation, eps, state_m.eps_p, dt, args=args, **kw)
+        return PlasticState(eps_p, state_m.alpha + np.abs(eps_p - state_m.eps_p))
+
+
+# ----------------------------------------------------------------------------------------------------------
+# Driving a material point, reference solutions and convergence in Δt
+# ----------------------------------------------------------------------------------------------------------
+
+
+def simulate(model, strain, time, dissipation: Dissipation, scheme: str = "implicit", state0=None, **kw):
+    """Drive material point(s) along ``strain[m]`` at ``time[m]`` (leading axis = time); returns a dict of
+    arrays ``time``, ``strain``, ``stress`` and one entry per state field (e.g. ``d`` or ``eps_p``, ``alpha``).
+    """
+    time = np.asarray(time, dtype=float)
+    strain = np.asarray(strain, dtype=float)
+    if time.ndim != 1 or strain.shape[:1] != time.shape:
+        raise ValueError(f"strain must have the time axis first: time {time.shape}, strain {strain.shape}")
+    if np.any(np.diff(time) <= 0):
+        raise ValueError("time must increase strictly (dt > 0)")
+    state = model.initial_state(strain.shape[1:]) if state0 is None else state0
+    states = [state]
+    for m in range(time.size - 1):
+        state = model.update(state, strain[m], strain[m + 1], time[m + 1] - time[m], dissipation, scheme, **kw)
+        states.append(state)
+    history = {name: np.array([np.broadcast_to(s[i], strain.shape[1:]) for s in states])
+               for i, name in enumerate(state._fields)}
+    stress = np.array([model.stress(e, s) for e, s in zip(strain, states, strict=True)])
+    return {"time": time, "strain": strain, "stress": stress} | history
+
+
+def reference_solution(model, strain_fn, time, dissipation: Dissipation, state0=None, rtol=1e-12, atol=1e-15):
+    """State history at ``time`` from the rate law λ̇ = λ̇(ε(t), λ) (Eq. 2.111) integrated by an adaptive
+    8th-order Runge–Kutta method (DOP853): an independent reference for the time-stepping schemes.
+    Needs r2 > 0; ``strain_fn(t)`` returns the (scalar) strain.
+    """
+    dissipation.require_rate_dependence()
+    time = np.asarray(time, dtype=float)
+    state = model.initial_state() if state0 is None else state0
+    fields = type(state)
+
+    def rhs(t, y):
+        return np.array(model.state_rate(strain_fn(t), fields(*y), dissipation), dtype=float)
+
+    sol = solve_ivp(rhs, (time[0], time[-1]), np.array(state, dtype=float), method="DOP853", t_eval=time,
+                    rtol=rtol, atol=atol)
+    if not sol.success:
+        raise RuntimeError(f"reference integration failed: {sol.message}")
+    return {name: sol.y[i] for i, name in enumerate(fields._fields)}
+
+
+def observed_order(dt, error, last: int = 3) -> float:
+    """Slope of log(error) over log(Δt) through the ``last`` smallest steps (least squares)."""
+    dt, error = np.asarray(dt, float), np.asarray(error, float)
+    keep = np.argsort(dt)[:last]
+    return float(np.polyfit(np.log(dt[keep]), np.log(error[keep]), 1)[0])
+
+
+def convergence_study(model, dissipation: Dissipation, strain_fn, t_end, n_steps=(16, 32, 64, 128, 256),
+                      schemes=(*SCHEMES, "variational"), repeats: int = 1, reference_kw=None, on_result=None):
+    """Error of each scheme against :func:`reference_solution` over Δt = t_end/n, with runtimes [s].
+
+    The error is max over the steps of |λ_m - λ_ref(t_m)| for the model's first internal variable; the runtime
+    is the best of ``repeats`` runs of :func:`simulate`. ``on_result(scheme=, n_steps=, dt=, error=, runtime=)``
+    is called after each run (to stream results to disk). Returns
+    ``{scheme: {"n_steps", "dt", "error", "runtime"}, "orders": {scheme: observed order}}``.
+    """
+    t_end = check_positive("t_end", t_end)
+    for scheme in schemes:
+        check_option("scheme", scheme, (*SCHEMES, "variational"))
+    field = model.initial_state()._fields[0]
+    result = {scheme: {"n_steps": [], "dt": [], "error": [], "runtime": []} for scheme in schemes}
+    for n in n_steps:
+        time = np.linspace(0.0, t_end, int(n) + 1)
+        reference = reference_solution(model, strain_fn, time, dissipation, **(reference_kw or {}))[field]
+        strain = np.array([strain_fn(t) for t in time])
+        for scheme in schemes:
+            runtime = np.inf
+            for _ in range(repeats):
+                tic = _time.perf_counter()
+                history = simulate(model, strain, time, dissipation, scheme)
+                runtime = min(runtime, _time.perf_counter() - tic)
+            row = {"n_steps": int(n), "dt": t_end / int(n), "runtime": runtime,
+                   "error": float(np.max(np.abs(history[field] - reference)))}
+            for key, value in row.items():
+                result[scheme][key].append(value)
+            if on_result is not None:
+                on_result(scheme=scheme, **row)
+    result = {scheme: {k: np.array(v) for k, v in rows.items()} for scheme, rows in result.items()}
+    result["orders"] = {s: observed_order(result[s]["dt"], result[s]["error"]) for s in schemes}
+    return result
+
+
+# ----------------------------------------------------------------------------------------------------------
+# Demo
+# ----------------------------------------------------------------------------------------------------------
+
+
+def demo() -> str:
+    """One small scene: 1D plasticity and damage, closed form vs numerical update, and orders in Δt."""
+    plast, damage = Plasticity1D(E=200_000.0, K=8_000.0), Damage1D(E=200_000.0)
+    d_plast, d_damage = elasto_viscoplastic(60.0, 10_000.0), elasto_viscoplastic(0.05, 0.05)
+    lines = ["abrakit.evolution: PMDP updates (Eqs. 2.109, 2.111, 2.112, 4.53) on 1D models"]
+    for name, model, diss, amp in (("plasticity", plast, d_plast, 2e-3), ("damage", damage, d_damage, 1.5e-3)):
+        time = np.linspace(0.0, 1.0, 65)
+        strain = amp * np.sin(2 * np.pi * time)
+        closed = simulate(model, strain, time, diss, "implicit")
+        numeric = simulate(model, strain, time, diss, "variational")
+        field = model.initial_state()._fields[0]
+        gap = np.max(np.abs(closed[field] - numeric[field]))
+        study = convergence_study(model, diss, lambda t, a=amp: a * np.sin(2 * np.pi * t), 1.0,
+                                  n_steps=(32, 64, 128), schemes=tuple(SCHEMES))
+        orders = ", ".join(f"{s} {o:.2f}" for s, o in study["orders"].items())
+        lines.append(f"  {name:10s} max|closed - variational| = {gap:.1e}; observed orders: {orders}")
+    return "\n".join(lines)
