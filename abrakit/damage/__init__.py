@@ -1,0 +1,23 @@
+"""Regularised damage-plasticity (Ch. 6-7): Model I (gradient-enhanced, element Laplacian) and Model II (ERVE)."""
+
+from abrakit.damage.laplacian import (
+    ElementLaplacian,
+    element_centres,
+    element_laplacian,
+    face_neighbours,
+    ghost_centres,
+    mirror_points,
+    taylor_matrix,
+    unit_cube_mesh,
+)
+
+__all__ = [
+    "ElementLaplacian",
+    "element_centres",
+    "element_laplacian",
+    "face_neighbours",
+    "ghost_centres",
+    "mirror_points",
+    "taylor_matrix",
+    "unit_cube_mesh",
+]

@@ -1,0 +1,562 @@
+r"""Element Laplacian of Model I: a Taylor stencil over neighbour element centres (Ch. 6.4.1).
+
+Model I keeps one damage function :math:`f_i` per element, located at the element centre :math:`\mathbf{x}_i`
+(here: the mean of the element's nodes). The indicator function (6.64, 6.76) needs the Laplacian
+:math:`\Lambda_f = \nabla^2 f` at every centre; it is reconstructed from the values at neighbouring centres.
+
+**Taylor expansion (6.65).** Around the centre of element *i*, for every stencil member *j*,
+
+.. math::
+
+    \Delta f_{i,j} = f_j - f_i = \sum_k \partial_k f_i\, \Delta x_{j,k}
+                     + \tfrac12 \sum_{k,p} \partial_k\partial_p f_i\, \Delta x_{j,k}\Delta x_{j,p},
+    \qquad \Delta\mathbf{x}_j = \mathbf{x}_j - \mathbf{x}_i .
+
+**Linear system (6.67)–(6.70).** Collecting the rows gives :math:`\Delta\mathbf{f}_i = \mathbf{D}\,\partial\mathbf{f}_i`
+with the unknowns ordered as in (6.69) -- first derivatives, mixed second derivatives, unmixed second derivatives::
+
+    1D: (f_x, f_xx)                               n = 2
+    2D: (f_x, f_y, f_xy, f_xx, f_yy)              n = 5
+    3D: (f_x, f_y, f_z, f_xy, f_xz, f_yz, f_xx, f_yy, f_zz)   n = 9
+
+and the rows of :math:`\mathbf{D}` (6.70): :math:`D_{j,k} = \Delta x_{j,k}`,
+:math:`D_{j,kp} = \Delta x_{j,k}\Delta x_{j,p}` (mixed), :math:`D_{j,kk} = \Delta x_{j,k}^2/2` (unmixed).
+
+**Stencil.** The *n* members are the face neighbours (2 in 1D, 3 for triangles, 4 for quadrilaterals and
+tetrahedra, 6 for hexahedra) plus extra elements from the vertex ring that close the system: the seed's rule
+for quadrilaterals and hexahedra is one element per coordinate plane, "the closest ones located in diagonal
+direction" (2D: 4 + 1; 3D: 6 + 3). The seed gives no rule for simplices (3 + 2, 4 + 5); there the extra members
+are chosen greedily (row-pivoted QR): each next member is the close one adding the most new information.
+
+**Neumann condition (6.44) by ghost centres.** A boundary facet contributes a ghost centre: the element centre
+mirrored across the facet's plane, carrying the element's own value. Then :math:`\Delta f = 0` for that row,
+which makes the reconstructed Taylor polynomial's normal derivative vanish at the foot of the perpendicular
+from the centre to the facet.
+
+**Operator (6.71)–(6.75).** :math:`\partial\mathbf{f}_i = \mathbf{D}^{-1}\Delta\mathbf{f}_i`; the rows of the unmixed
+second derivatives form :math:`\mathbf{B}^{\nabla^2}` (6.72) and
+:math:`(\Lambda_f)_i = \sum_l (\mathbf{B}^{\nabla^2}\Delta\mathbf{f}_i)_l` (6.74). Since :math:`\Delta\mathbf{f}_i`
+is linear in the element values, all of this is one sparse matrix, precomputed once per mesh::
+
+    lap = element_laplacian(mesh)      # once per mesh
+    Lf = lap.matrix @ f                # every Newton step, Eq. (6.74)
+    dL = lap.diagonal                  # d(Lambda_f)_i / d f_i, Eq. (6.75)
+
+**Ill-conditioned stencils.** On unstructured, graded or distorted meshes the square system can be singular or
+nearly so (collinear centres, missing neighbours on thin strips). Each system is solved in a dimensionless,
+column-equilibrated form (increments divided by the mean face distance :math:`h_i`, columns scaled to unit norm),
+so uniform grading and stretching cost nothing; its condition number is recorded, and where it exceeds
+``max_condition`` (or the stencil cannot be completed) the element falls back to a weighted least-squares fit over
+its 2-ring of vertex neighbours (boundary elements: plus the ghost centres of that 2-ring), with weights
+:math:`\min(1, \rho_n/\rho_j)^{2q}` (:math:`\rho_n`: distance of the *n*-th nearest member; q = 3, or flatter
+where that is ill-conditioned). A quadratic field is still reproduced exactly on interior elements (the
+over-determined system is consistent). If even the fallback is ill-conditioned the construction stops with a
+``ValueError`` naming the elements.
+
+**Accuracy.** Second derivatives from a Taylor fit lose two orders: on uniform grids the symmetric stencil cancels
+the cubic terms and the error is O(h^2) (the classical 3/5/7-point Laplacian with reflecting walls); on irregular,
+perturbed or simplex meshes it is O(h), exact for quadratics.
+
+Deviations from the seed, all harmless for :math:`\Lambda_f`: (6.66) prints :math:`\Delta\mathbf{x}_j =
+\mathbf{x}_i - \mathbf{x}_j`, inconsistent with (6.65); we use :math:`\mathbf{x}_j - \mathbf{x}_i` (only the sign of
+the first derivatives depends on it). (6.75) sums :math:`-\mathbf{B}^{\nabla^2}\cdot\mathbf{1}` over all rows; a row
+of the element's own ghost has :math:`\Delta f \equiv 0`, so its derivative is 0, not -1 -- ``diagonal`` is the
+exact derivative of the operator actually applied.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+import scipy.sparse as sp
+import skfem
+
+from abrakit.validation import check_finite, check_option, check_positive, check_range, check_shape
+
+#: Element families with a Taylor stencil: mesh class -> number of face neighbours.
+SUPPORTED_MESHES = {
+    skfem.MeshLine1: 2,
+    skfem.MeshTri1: 3,
+    skfem.MeshQuad1: 4,
+    skfem.MeshTet1: 4,
+    skfem.MeshHex1: 6,
+}
+
+_AXES = "xyz"
+
+#: Exponents q of the fallback weights min(1, rho_n / rho)**(2 q), tried from steep (local) to flat (robust).
+FALLBACK_WEIGHT_POWERS = (3, 1, 0)
+
+
+def taylor_terms(dim: int) -> tuple[tuple[int, ...], ...]:
+    """Unknowns of Eq. (6.69) in order: first ``(k,)``, mixed second ``(k, p)``, unmixed second ``(k, k)``."""
+    first = [(k,) for k in range(dim)]
+    mixed = [(k, p) for k in range(dim) for p in range(k + 1, dim)]
+    unmixed = [(k, k) for k in range(dim)]
+    return tuple(first + mixed + unmixed)
+
+
+def derivative_names(dim: int) -> tuple[str, ...]:
+    """Names of the unknowns of Eq. (6.69), e.g. ``('f_x', 'f_y', 'f_xy', 'f_xx', 'f_yy')`` in 2D."""
+    return tuple("f_" + "".join(_AXES[k] for k in term) for term in taylor_terms(dim))
+
+
+def taylor_matrix(dx) -> np.ndarray:
+    """Rows of the coefficient matrix D, Eq. (6.70), for increments ``dx`` of shape (..., dim) -> (..., n).
+
+    ``D_jk = dx_k``, ``D_j,kp = dx_k dx_p`` (k < p), ``D_j,kk = dx_k**2 / 2``; units follow ``dx``.
+    """
+    dx = np.asarray(dx, dtype=float)
+    columns = []
+    for term in taylor_terms(dx.shape[-1]):
+        if len(term) == 1:
+            columns.append(dx[..., term[0]])
+        elif term[0] != term[1]:
+            columns.append(dx[..., term[0]] * dx[..., term[1]])
+        else:
+            columns.append(0.5 * dx[..., term[0]] ** 2)
+    return np.stack(columns, axis=-1)
+
+
+def _mesh_kind(mesh) -> int:
+    """Number of face neighbours of the mesh's element type; clear errors for everything else."""
+    if not isinstance(mesh, skfem.Mesh):
+        raise TypeError(f"mesh must be a scikit-fem mesh (MeshLine1, MeshTri1, MeshQuad1, MeshTet1, MeshHex1), "
+                        f"got {type(mesh).__name__}")
+    for cls, n_faces in SUPPORTED_MESHES.items():
+        if isinstance(mesh, cls):
+            if mesh.p.shape[0] != mesh.dim():
+                raise ValueError(f"mesh: {type(mesh).__name__} embedded in {mesh.p.shape[0]}D is not supported; "
+                                 f"the Taylor stencil needs a {mesh.dim()}D mesh")
+            return n_faces
+    names = ", ".join(cls.__name__ for cls in SUPPORTED_MESHES)
+    raise TypeError(f"mesh: element Laplacian supports {names} (and their subclasses), got {type(mesh).__name__}")
+
+
+def element_centres(mesh) -> np.ndarray:
+    """Element centres x_i as the mean of the element's vertices, shape (nel, dim)."""
+    return mesh.p[:, mesh.t].mean(axis=1).T
+
+
+def face_neighbours(mesh) -> np.ndarray:
+    """Element across each facet, shape (nel, faces per element); -1 where the facet is on the boundary."""
+    facets = mesh.t2f.T
+    first, second = mesh.f2t[0, facets], mesh.f2t[1, facets]
+    own = np.arange(mesh.t.shape[1])[:, None]
+    return np.where(first == own, second, first)
+
+
+def mirror_points(points, facet_nodes) -> np.ndarray:
+    """Mirror ``points`` (m, dim) across the planes through facets with node coordinates (m, nodes, dim).
+
+    The plane is fitted to the facet nodes (centroid and the least singular direction), so warped quadrilateral
+    facets and unsorted node orders are handled; in 1D the facet is a point and the mirror is 2 x_b - x.
+    """
+    facet_nodes = np.asarray(facet_nodes, dtype=float)
+    base = facet_nodes.mean(axis=1)
+    normal = np.linalg.svd(facet_nodes - base[:, None, :])[2][:, -1, :]
+    distance = np.einsum("md,md->m", points - base, normal)
+    return points - 2.0 * distance[:, None] * normal
+
+
+def ghost_centres(mesh):
+    """Ghost centres of Eq. (6.44): each boundary facet's owner centre mirrored across the facet.
+
+    Returns ``(facets, owner, points)``: the boundary facets (nb,), their owning elements (nb,) and the ghost points
+    (nb, dim). A ghost carries its owner's value, so the reconstructed normal derivative vanishes on the boundary.
+    """
+    facets = mesh.boundary_facets()
+    owner = mesh.f2t[0, facets]
+    nodes = mesh.p[:, mesh.facets[:, facets]].transpose(2, 1, 0)
+    return facets, owner, mirror_points(element_centres(mesh)[owner], nodes)
+
+
+@dataclass(frozen=True, eq=False)
+class ElementLaplacian:
+    """Precomputed Taylor-stencil operators of one mesh (Eq. 6.65-6.75).
+
+    ``matrix`` (nel, nel) gives the Laplacian at the element centres, ``Lambda_f = matrix @ f`` (Eq. 6.74), in
+    units of f / length**2; ``derivative_matrix`` (nel * n, nel) gives all unknowns of Eq. (6.69), row
+    ``i * n + l`` holding derivative ``l`` of element ``i``. ``condition`` is the condition number of the
+    dimensionless, column-equilibrated system used for each element, ``fallback`` marks the elements solved by the
+    least-squares fit over the 2-ring.
+    """
+
+    matrix: sp.csr_matrix
+    derivative_matrix: sp.csr_matrix
+    centres: np.ndarray
+    condition: np.ndarray
+    fallback: np.ndarray
+    names: tuple[str, ...]
+
+    def __call__(self, f) -> np.ndarray:
+        """Lambda_f at every element centre, Eq. (6.74)."""
+        return self.matrix @ self._values(f)
+
+    def derivatives(self, f) -> np.ndarray:
+        """All derivatives of Eq. (6.69) at every element centre, shape (nel, n), order as in ``names``."""
+        return (self.derivative_matrix @ self._values(f)).reshape(len(self.centres), len(self.names))
+
+    def gradient(self, f) -> np.ndarray:
+        """Reconstructed gradient at every element centre, shape (nel, dim)."""
+        dim = self.centres.shape[1]
+        return self.derivatives(f)[:, :dim]
+
+    def hessian(self, f) -> np.ndarray:
+        """Reconstructed (symmetric) matrix of second derivatives at every element centre, shape (nel, dim, dim)."""
+        dim = self.centres.shape[1]
+        derivs = self.derivatives(f)
+        out = np.zeros((len(derivs), dim, dim))
+        for l, term in enumerate(taylor_terms(dim)):
+            if len(term) == 2:
+                out[:, term[0], term[1]] = out[:, term[1], term[0]] = derivs[:, l]
+        return out
+
+    @property
+    def diagonal(self) -> np.ndarray:
+        """(D Lambda_f)_i = d(Lambda_f)_i / d f_i, Eq. (6.75) (own ghost rows do not depend on f_i: Delta f = 0)."""
+        return self.matrix.diagonal()
+
+    @property
+    def n_fallback(self) -> int:
+        """Number of elements whose square Taylor system was replaced by the least-squares fit."""
+        return int(self.fallback.sum())
+
+    def _values(self, f) -> np.ndarray:
+        return check_shape("f", check_finite("f", f), (len(self.centres),))
+
+
+def _padded_rows(matrix: sp.csr_matrix) -> np.ndarray:
+    """Column indices of each CSR row as a padded (nrows, max_per_row) array, -1 where a row is shorter."""
+    matrix = matrix.tocsr()
+    counts = np.diff(matrix.indptr)
+    out = np.full((matrix.shape[0], max(int(counts.max(initial=0)), 1)), -1, dtype=np.int64)
+    rows = np.repeat(np.arange(matrix.shape[0]), counts)
+    out[rows, np.arange(matrix.nnz) - matrix.indptr[rows]] = matrix.indices
+    return out
+
+
+def _vertex_adjacency(mesh) -> sp.csr_matrix:
+    """Element-to-element adjacency through shared vertices, without the diagonal."""
+    nel = mesh.t.shape[1]
+    incidence = sp.csr_matrix(
+        (np.ones(mesh.t.size), (mesh.t.ravel(), np.tile(np.arange(nel), mesh.t.shape[0]))),
+        shape=(mesh.p.shape[1], nel),
+    )
+    adjacency = (incidence.T @ incidence).tocsr()
+    adjacency.setdiag(0)
+    adjacency.eliminate_zeros()
+    adjacency.data[:] = 1.0
+    return adjacency
+
+
+def _equilibrated(rows, weights=None):
+    """Scale the columns of stacked Taylor matrices (..., k, n) to unit norm; return (scaled, scale, condition)."""
+    if weights is not None:
+        rows = rows * np.sqrt(weights)[..., None]
+    norms = np.linalg.norm(rows, axis=-2)
+    scale = np.where(norms > 0.0, 1.0 / np.where(norms > 0.0, norms, 1.0), 0.0)
+    scaled = rows * scale[..., None, :]
+    singular = np.linalg.svd(scaled, compute_uv=False)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        condition = np.where(singular[..., -1] > 0.0, singular[..., 0] / singular[..., -1], np.inf)
+    condition = np.where(np.all(norms > 0.0, axis=-1) & (rows.shape[-2] >= rows.shape[-1]), condition, np.inf)
+    return scaled, scale, condition
+
+
+def _select_diagonal(dx_cand, valid, n_extra):
+    """Seed rule (Fig. 6.5): per coordinate plane (k, p) the closest candidate in diagonal direction.
+
+    Score |dx_k dx_p| / |dx|**3: largest for a 45-degree direction in that plane and for close elements.
+    """
+    chosen = np.full((dx_cand.shape[0], n_extra), -1, dtype=np.int64)
+    available = valid.copy()
+    dim = dx_cand.shape[-1]
+    planes = [(k, p) for k in range(dim) for p in range(k + 1, dim)]
+    rho = np.linalg.norm(dx_cand, axis=-1)
+    rows = np.arange(dx_cand.shape[0])
+    for slot, (k, p) in enumerate(planes):
+        with np.errstate(divide="ignore", invalid="ignore"):
+            score = np.abs(dx_cand[..., k] * dx_cand[..., p]) / rho**3
+        score = np.where(available, score, -np.inf)
+        best = np.argmax(score, axis=1)
+        ok = np.isfinite(score[rows, best]) & (score[rows, best] > 0.0)
+        chosen[:, slot] = np.where(ok, best, -1)
+        available[rows[ok], best[ok]] = False
+    return chosen
+
+
+def _select_greedy(base_rows, cand_rows, cand_dx, valid, n_extra):
+    """Add, one at a time, the candidate whose Taylor row has the largest part outside the rows chosen so far.
+
+    This is row-pivoted QR on the candidate rows: the relative residual |(I - P) r| / |r| after projecting a row r
+    on the span of the current rows measures how much new information it brings; dividing by the (dimensionless)
+    distance prefers close members, whose truncation error is smaller.
+    """
+    nel = cand_rows.shape[0]
+    chosen = np.full((nel, n_extra), -1, dtype=np.int64)
+    available = valid.copy()
+    cand_norm = np.maximum(np.linalg.norm(cand_rows, axis=-1), 1e-300)
+    distance = np.maximum(np.linalg.norm(cand_dx, axis=-1), 1e-300)
+    rows_now = base_rows
+    elements = np.arange(nel)
+    for slot in range(n_extra):
+        basis = np.linalg.qr(np.swapaxes(rows_now, 1, 2))[0]            # (nel, n, k): span of the current rows
+        residual = cand_rows - np.einsum("ecn,enk,emk->ecm", cand_rows, basis, basis)
+        score = np.where(available, np.linalg.norm(residual, axis=-1) / cand_norm / distance, -np.inf)
+        best = np.argmax(score, axis=1)
+        ok = score[elements, best] > 1e-8
+        chosen[:, slot] = np.where(ok, best, -1)
+        available[elements[ok], best[ok]] = False
+        picked = np.where(ok[:, None], cand_rows[elements, best], 0.0)
+        rows_now = np.concatenate([rows_now, picked[:, None, :]], axis=1)
+    return chosen
+
+
+def element_laplacian(
+    mesh,
+    *,
+    max_condition: float = 1e4,
+    selection: str = "auto",
+    max_candidates: int = 16,
+) -> ElementLaplacian:
+    """Precompute the element Laplacian of Model I on a scikit-fem mesh, Eq. (6.65)-(6.75).
+
+    Parameters
+    ----------
+    mesh : skfem.MeshLine1, MeshTri1, MeshQuad1, MeshTet1 or MeshHex1 (or a subclass, e.g. MeshQuad2; only the
+        vertices are used). Lengths in any unit; the Laplacian comes out per length squared.
+    max_condition : condition number of the dimensionless, column-equilibrated Taylor system above which an
+        element falls back to the weighted least-squares fit over its 2-ring (and above which that fit is refused).
+    selection : how the extra (non-face) stencil members are chosen: ``"diagonal"`` (the seed's rule, one per
+        coordinate plane; quadrilaterals and hexahedra), ``"greedy"`` (most new information, any element type) or
+        ``"auto"`` (diagonal for quadrilaterals/hexahedra, greedy for simplices).
+    max_candidates : the nearest this-many vertex neighbours are considered as extra members.
+    """
+    n_faces = _mesh_kind(mesh)
+    max_condition = check_positive("max_condition", max_condition)
+    check_option("selection", selection, ("auto", "diagonal", "greedy"))
+    if isinstance(max_candidates, bool) or int(max_candidates) != max_candidates or max_candidates < 1:
+        raise ValueError(f"max_candidates must be a positive integer, got {max_candidates!r}")
+    dim = mesh.dim()
+    n_extra = len(taylor_terms(dim)) - n_faces
+    is_simplex = isinstance(mesh, skfem.MeshTri1 | skfem.MeshTet1)
+    if selection == "auto":
+        selection = "greedy" if is_simplex else "diagonal"
+    if selection == "diagonal" and is_simplex and n_extra > 0:
+        raise ValueError(f"selection='diagonal' is the seed's rule for quadrilaterals and hexahedra (one extra "
+                         f"element per plane); {type(mesh).__name__} needs {n_extra} extras: use 'greedy'")
+
+    centres = element_centres(mesh)
+    face_source, dx_face = _face_members(mesh, centres)
+    length = np.linalg.norm(dx_face, axis=-1).mean(axis=1)           # local length scale h_i
+    if np.any(length <= 0.0):
+        raise ValueError(f"mesh: elements {np.nonzero(length <= 0.0)[0][:5]} have coincident neighbour centres")
+    adjacency = _vertex_adjacency(mesh)
+    extra_source, dx_extra = _extra_members(centres, face_source, dx_face / length[:, None, None], length, adjacency,
+                                            n_extra, selection, int(max_candidates))
+
+    # Square system (6.67) in dimensionless, column-equilibrated form: (D_hat S)(S^-1 d_hat) = Delta f.
+    source = np.concatenate([face_source, extra_source], axis=1)
+    dx_hat = np.concatenate([dx_face, dx_extra], axis=1) / length[:, None, None]
+    scaled, scale, condition = _equilibrated(taylor_matrix(dx_hat))
+    square = np.all(source >= 0, axis=1) & (condition <= max_condition)
+    inverse = np.zeros(scaled.shape)
+    inverse[square] = np.linalg.inv(scaled[square])
+    blocks = [(np.nonzero(square)[0], source[square], scale[square, :, None] * inverse[square])]  # Eq. (6.71)
+
+    fallback = ~square
+    condition = condition.copy()
+    if fallback.any():
+        targets, sources, weights, condition[fallback] = _least_squares_fit(
+            mesh, centres, length, adjacency, np.nonzero(fallback)[0], max_condition, condition
+        )
+        blocks.append((targets, sources, weights))
+
+    derivative_matrix = _assemble(blocks, length, dim, len(centres))
+    return ElementLaplacian(
+        matrix=_unmixed_sum(derivative_matrix, dim),
+        derivative_matrix=derivative_matrix,
+        centres=centres,
+        condition=condition,
+        fallback=fallback,
+        names=derivative_names(dim),
+    )
+
+
+def _face_members(mesh, centres):
+    """Face neighbours, or ghost centres (Eq. 6.44) across boundary facets: (source (nel, F), dx (nel, F, dim)).
+
+    A ghost's source is the element itself (the ghost carries its owner's value).
+    """
+    elements = np.arange(len(centres))[:, None]
+    neighbours = face_neighbours(mesh)
+    source = np.where(neighbours >= 0, neighbours, elements)
+    points = centres[source]
+    facets, _, ghosts = ghost_centres(mesh)
+    ghost_of_facet = np.zeros((mesh.facets.shape[1], centres.shape[1]))
+    ghost_of_facet[facets] = ghosts
+    boundary = neighbours < 0
+    points[boundary] = ghost_of_facet[mesh.t2f.T[boundary]]
+    return source, points - centres[:, None, :]
+
+
+def _extra_members(centres, face_source, dx_face_hat, length, adjacency, n_extra, selection, max_candidates):
+    """Extra stencil members from the vertex ring (not self, not a face neighbour): (source, dx), -1 if missing."""
+    nel, dim = centres.shape
+    if n_extra == 0:
+        return np.zeros((nel, 0), dtype=np.int64), np.zeros((nel, 0, dim))
+    candidates = _padded_rows(adjacency)
+    valid = (candidates >= 0) & ~np.any(candidates[:, :, None] == face_source[:, None, :], axis=2)
+    dx = centres[np.maximum(candidates, 0)] - centres[:, None, :]
+    nearest = np.argsort(np.where(valid, np.linalg.norm(dx, axis=-1), np.inf), axis=1, kind="stable")
+    nearest = nearest[:, :max_candidates]
+    candidates = np.take_along_axis(candidates, nearest, axis=1)
+    valid = np.take_along_axis(valid, nearest, axis=1)
+    dx = np.take_along_axis(dx, nearest[..., None], axis=1)
+    if selection == "diagonal":
+        chosen = _select_diagonal(dx, valid, n_extra)
+    else:
+        dx_hat = dx / length[:, None, None]
+        chosen = _select_greedy(taylor_matrix(dx_face_hat), taylor_matrix(dx_hat), dx_hat, valid, n_extra)
+    found = chosen >= 0
+    chosen = np.maximum(chosen, 0)
+    source = np.where(found, np.take_along_axis(candidates, chosen, axis=1), -1)
+    return source, np.where(found[..., None], np.take_along_axis(dx, chosen[..., None], axis=1), 0.0)
+
+
+def _assemble(blocks, length, dim, nel) -> sp.csr_matrix:
+    """Sparse derivative operator (nel * n, nel) from per-element weights (m, n, k) acting on Delta f_ij = f_j - f_i.
+
+    The weights are dimensionless; first derivatives are divided by h_i and second derivatives by h_i**2.
+    """
+    order = np.array([len(term) for term in taylor_terms(dim)])
+    n = len(order)
+    rows, cols, vals = [], [], []
+    for owner, source, weight in blocks:
+        weight = weight / length[owner, None, None] ** order[None, :, None]
+        row = np.broadcast_to(owner[:, None, None] * n + np.arange(n)[None, :, None], weight.shape)
+        used = np.broadcast_to((source >= 0)[:, None, :], weight.shape)
+        rows += [row[used], row[used]]
+        cols += [np.broadcast_to(source[:, None, :], weight.shape)[used],
+                 np.broadcast_to(owner[:, None, None], weight.shape)[used]]
+        vals += [weight[used], -weight[used]]                          # +w on f_j, -w on f_i
+    matrix = sp.csr_matrix((np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))), shape=(nel * n, nel))
+    matrix.sum_duplicates()
+    matrix.eliminate_zeros()                                           # own ghosts cancel exactly
+    return matrix
+
+
+def _unmixed_sum(derivative_matrix, dim) -> sp.csr_matrix:
+    """Lambda_f = sum of the unmixed second derivatives, Eq. (6.72)-(6.74), as one (nel, nel) matrix."""
+    n = len(taylor_terms(dim))
+    nel = derivative_matrix.shape[0] // n
+    unmixed = np.arange(n - dim, n)
+    rows = np.repeat(np.arange(nel), dim)
+    cols = (np.arange(nel)[:, None] * n + unmixed).ravel()
+    pick = sp.csr_matrix((np.ones(rows.size), (rows, cols)), shape=(nel, nel * n))
+    return (pick @ derivative_matrix).tocsr()
+
+
+def _least_squares_fit(mesh, centres, length, adjacency, targets, max_condition, square_condition):
+    """Weighted least-squares Taylor fit over the 2-ring for the elements ``targets``.
+
+    Boundary elements also use the ghost centres of every element in their 2-ring. Weights
+    min(1, rho_n / rho_j)**(2 q), rho_n the distance of the n-th nearest member, with the first q of
+    ``FALLBACK_WEIGHT_POWERS`` that gives a well-conditioned system.
+    Returns ``(targets, sources, weights, condition)`` with dimensionless weights (m, n, k) acting on Delta f.
+    """
+    nel = len(centres)
+    ring = adjacency + sp.identity(nel, format="csr")
+    two_ring = (ring[targets] @ ring).tocsr()
+    _, owner, ghost_points = ghost_centres(mesh)
+    ghost_of = sp.csr_matrix((np.ones(owner.size), (owner, np.arange(owner.size))), shape=(nel, owner.size))
+    # An interior element's fit stays free of the boundary condition, so it remains exact for every quadratic.
+    on_boundary = np.asarray(ghost_of[targets].sum(axis=1)).ravel() > 0
+    ghosts = (sp.diags(on_boundary.astype(float)) @ two_ring @ ghost_of).tocsr()
+    ghosts.eliminate_zeros()
+
+    members = _padded_rows(two_ring)
+    members = np.where(members == targets[:, None], -1, members)       # f_i - f_i carries no information
+    ghost_ids = _padded_rows(ghosts)
+    points = np.concatenate([centres[np.maximum(members, 0)], ghost_points[np.maximum(ghost_ids, 0)]], axis=1)
+    sources = np.concatenate([members, np.where(ghost_ids >= 0, owner[np.maximum(ghost_ids, 0)], -1)], axis=1)
+    dx_hat = (points - centres[targets, None, :]) / length[targets, None, None]
+    rho2 = np.sum(dx_hat**2, axis=-1)
+    present = (sources >= 0) & (rho2 > 0.0)
+    sources = np.where(present, sources, -1)
+    rows = taylor_matrix(dx_hat)
+    # Weights min(1, rho_n / rho)**(2 q): the n nearest members (n = number of unknowns) count fully, farther ones
+    # fade. A steep q keeps the fit local and nearly as accurate as the square stencil; where that is ill-conditioned
+    # (slivers) the next, flatter q is used.
+    rho = np.sqrt(np.where(present, rho2, np.inf))
+    rho_n = np.sort(rho, axis=1)[:, min(rows.shape[-1], rho.shape[1]) - 1]
+    closeness = np.where(present, np.minimum(1.0, (rho_n[:, None] / np.where(present, rho, 1.0)) ** 2), 0.0)
+    best = np.full(len(targets), np.inf)
+    weights = np.zeros((len(targets), rows.shape[-1], rows.shape[-2]))
+    for power in FALLBACK_WEIGHT_POWERS:
+        todo = ~(best <= max_condition)
+        if not todo.any():
+            break
+        weight = closeness[todo] ** power
+        scaled, scale, condition = _equilibrated(rows[todo], weight)
+        # d_hat = S (W^1/2 D_hat S)^+ W^1/2 Delta f
+        weights[todo] = scale[:, :, None] * np.linalg.pinv(scaled) * np.sqrt(weight)[:, None, :]
+        best[todo] = condition
+    bad = ~(best <= max_condition)
+    if bad.any():
+        raise ValueError(
+            f"mesh: the Taylor stencil of elements {targets[bad][:8].tolist()} is singular or ill-conditioned "
+            f"(condition {square_condition[targets[bad]][:3]} for the square system, {best[bad][:3]} for the "
+            f"least-squares fit over the 2-ring; max_condition={max_condition:g}); the mesh is too thin or "
+            f"degenerate there to determine second derivatives"
+        )
+    condition = best
+    return targets, sources, weights, condition
+
+
+def unit_cube_mesh(kind: str, n: int, *, grading: str = "none", perturb: float = 0.0, seed: int = 0):
+    """Tensor-product test mesh of the unit interval/square/cube with ``n`` cells per side (tests, demo, benchmark).
+
+    kind: "line", "tri", "quad", "tet" or "hex". grading: "none", "side" (x -> x**2: refined towards x = 0) or
+    "corner" (every axis: refined towards the origin). perturb: nodes move by up to this fraction of 1/n in each
+    coordinate; a node on a wall keeps that coordinate, so it slides along the wall and the boundary stays straight.
+    """
+    meshes = {"line": skfem.MeshLine1, "tri": skfem.MeshTri, "quad": skfem.MeshQuad, "tet": skfem.MeshTet,
+              "hex": skfem.MeshHex}
+    check_option("kind", kind, meshes)
+    check_option("grading", grading, ("none", "side", "corner"))
+    check_range("perturb", perturb, 0.0, 0.5, high_open=True)
+    if isinstance(n, bool) or int(n) != n or n < 1:
+        raise ValueError(f"n must be a positive integer, got {n!r}")
+    dim = {"line": 1, "tri": 2, "quad": 2, "tet": 3, "hex": 3}[kind]
+    axes = [np.linspace(0.0, 1.0, int(n) + 1) for _ in range(dim)]
+    if grading == "side":
+        axes[0] = axes[0] ** 2
+    elif grading == "corner":
+        axes = [a**2 for a in axes]
+    mesh = meshes[kind].init_tensor(*axes)
+    if perturb:
+        movable = (mesh.p > 0.0) & (mesh.p < 1.0)
+        shift = np.random.default_rng(seed).uniform(-perturb / n, perturb / n, mesh.p.shape)
+        mesh = type(mesh)(mesh.p + movable * shift, mesh.t)
+    return mesh
+
+
+def demo() -> str:
+    """Laplacian of a quadratic and of cos(pi x) cos(pi y) on perturbed quadrilateral meshes."""
+    lines = []
+    for n in (8, 16, 32):
+        mesh = unit_cube_mesh("quad", n, perturb=0.25)
+        lap = element_laplacian(mesh)
+        x, y = lap.centres.T
+        quadratic = lap(1.0 + x - 2.0 * y + 2.0 * x**2 + x * y - 0.5 * y**2)   # exact Laplacian 4 - 1 = 3
+        cosine = lap(np.cos(np.pi * x) * np.cos(np.pi * y))                # exact -2 pi^2 cos cos
+        error = cosine + 2.0 * np.pi**2 * np.cos(np.pi * x) * np.cos(np.pi * y)
+        interior = np.all(face_neighbours(mesh) >= 0, axis=1)
+        lines.append(f"h = 1/{n:<3d} {mesh.t.shape[1]:5d} quads: quadratic |Lf - 3| = "
+                     f"{np.abs(quadratic[interior] - 3.0).max():.1e} (interior), cos field rms error "
+                     f"{np.sqrt(np.mean(error**2)):.3f} of |Lf| <= {2 * np.pi**2:.1f}, fallbacks {lap.n_fallback}")
+    return ("Model I element Laplacian (4 faces + 1 diagonal, mirrored ghosts) on quads perturbed by 25 % of h:\n"
+            + "\n".join(lines))
