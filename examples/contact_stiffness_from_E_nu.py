@@ -1,0 +1,19 @@
+"""Micro-macro identification: contact stiffnesses for a target E and nu (Eq. 5.9, 5.21), and back (Eq. 5.20).
+
+    python examples/contact_stiffness_from_E_nu.py
+"""
+
+from abrakit import identification as ident
+
+
+def main(E=30e9, nu=0.26, radius=1e-3, porosity=0.35, coordination=6.0):
+    rho_c = ident.contact_density(coordination, porosity, radius)              # Eq. (5.9), 1/m^3
+    for variant in ("published", "consistent"):
+        kn, kt = ident.contact_stiffnesses(E, nu, rho_c, radius, variant)       # Eq. (5.21), N/m
+        E_back, nu_back = ident.elastic_constants(kn, kt, rho_c, radius, variant)  # Eq. (5.20)
+        print(f"{variant:10s}: kn = {kn:.4g} N/m, kt = {kt:.4g} N/m -> E = {E_back:.4g} Pa, nu = {nu_back:.3f}")
+    return rho_c
+
+
+if __name__ == "__main__":
+    main()
