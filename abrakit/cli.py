@@ -13,6 +13,7 @@ DEMOS = {
     "evolution": "abrakit.evolution",
     "identification": "abrakit.identification",
     "wear": "abrakit.wear",
+    "materials": "abrakit.materials",
     "damage": "abrakit.damage.laplacian",
     "scratch": "abrakit.scratch",
 }

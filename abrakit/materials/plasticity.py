@@ -1,0 +1,157 @@
+"""Von Mises plasticity with linear isotropic hardening, Table 6.1 and Eq. (6.49)-(6.61).
+
+Free energy ``Psi = 1/2 (eps - eps_p) : E : (eps - eps_p) + 1/2 K_H alpha_p^2`` (6.2), deviatoric plastic strain,
+``alpha_p' = |eps_p'|`` (6.7) and the yield function
+
+    Phi_p = |dev sigma| - (r_p + K_H alpha_p) <= 0          (6.51)-(6.53)
+
+with "+ K_H alpha_p" (Table 6.1 prints "r_p - K_H alpha_p"; hardening with K_H > 0 needs "+", as in 6.53 and
+6.61). Hence the uniaxial yield stress is ``sqrt(3/2) r_p`` and the uniaxial hardening modulus ``1.5 K_H``.
+
+Two integrations of the flow rule ``eps_p' = rho dev sigma`` (6.53) over a step:
+
+- ``"explicit"`` (the seed, Eq. 6.59): ``eps_p^{m+1} = eps_p^m + d_rho dev sigma_trial``,
+  ``alpha_p^{m+1} = alpha_p^m + d_rho (r_p + K_H alpha_p^m)``, with ``d_rho`` from the consistency condition
+  (6.61) at the new step. Eq. (6.61) is *linear* in ``d_rho`` (the seed suggests Newton's method; one Newton
+  step is the closed form used here). Because ``alpha_p`` grows with the old yield stress while
+  ``|d eps_p|`` grows with the trial stress, the discrete ``alpha_p`` lags ``sum |d eps_p|``: a first-order
+  error in the step size, zero for perfect plasticity (``K_H = 0``).
+- ``"implicit"``: classical radial return (backward Euler), exact on radial paths for any step size.
+
+Both return the algorithmic (consistent) tangent.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..validation import check_option, check_poisson, check_positive
+from .base import DEVIATORIC, IsotropicElasticity, MaterialResponse, check_strain, deviator, outer
+
+INTEGRATIONS = ("explicit", "implicit")
+
+
+@dataclass(frozen=True)
+class PlasticStep:
+    """Outcome of the plastic update at every point of a batch.
+
+    ``eps_p`` (..., 6) and ``alpha_p`` (...): new internal variables; ``plastic_increment``: ``|d eps_p|``;
+    ``softening`` (..., 6, 6): the algorithmic tangent is ``f E - softening`` (zero where elastic);
+    ``active``: where the step was plastic.
+    """
+
+    eps_p: np.ndarray
+    alpha_p: np.ndarray
+    plastic_increment: np.ndarray
+    softening: np.ndarray
+    active: np.ndarray
+
+
+def plastic_step(eps, eps_p, alpha_p, shear_modulus, r_p: float | None, K_H: float, integration: str) -> PlasticStep:
+    """Return map of the von Mises model for stresses ``f E : (eps - eps_p)``, Eq. (6.59)-(6.61).
+
+    ``shear_modulus`` is the effective ``G = f mu`` (MPa; scalar or batch array) with the damage function
+    frozen at the old step, as both damage models do (operator split). ``integration``: ``"explicit"``
+    (seed, 6.59/6.61) or ``"implicit"`` (radial return). ``r_p=None`` means no plasticity (elastic step).
+    """
+    batch = np.broadcast_shapes(np.shape(eps)[:-1], np.shape(alpha_p), np.shape(shear_modulus))
+    new_eps_p = np.array(np.broadcast_to(eps_p, (*batch, 6)), dtype=float)
+    new_alpha_p = np.array(np.broadcast_to(alpha_p, batch), dtype=float)
+    plastic_increment = np.zeros(batch)
+    softening = np.zeros((*batch, 6, 6))
+    if r_p is None:
+        return PlasticStep(new_eps_p, new_alpha_p, plastic_increment, softening, np.zeros(batch, bool))
+    two_G = np.broadcast_to(2.0 * np.asarray(shear_modulus, dtype=float), batch)
+    s_trial = two_G[..., None] * deviator(eps - new_eps_p)  # dev f E : (eps^{m+1} - eps_p^m)
+    q = np.linalg.norm(s_trial, axis=-1)
+    yield_stress = r_p + K_H * new_alpha_p
+    active = q > yield_stress  # Phi_p > 0, Eq. (6.60)
+    if not np.any(active):
+        return PlasticStep(new_eps_p, new_alpha_p, plastic_increment, softening, active)
+    # only the plastic points are worked on (plastic zones are usually small)
+    s_trial, q, y, two_G = s_trial[active], q[active], yield_stress[active], two_G[active]
+    normal = s_trial / q[:, None]
+    nn = outer(normal, normal)
+    if integration == "explicit":
+        denominator = two_G * q + K_H * y
+        d_rho = (q - y) / denominator  # Eq. (6.61), linear in d_rho
+        new_eps_p[active] += d_rho[:, None] * s_trial  # Eq. (6.59)
+        new_alpha_p[active] += d_rho * y  # Eq. (6.59)
+        plastic_increment[active] = d_rho * q
+        d_rho_dq = y * (two_G + K_H) / denominator**2
+        softening[active] = (two_G**2)[:, None, None] * (
+            d_rho[:, None, None] * DEVIATORIC + (q * d_rho_dq)[:, None, None] * nn
+        )
+    else:
+        d_gamma = (q - y) / (two_G + K_H)  # radial return: q - 2G dg = r_p + K_H (alpha_p + dg)
+        new_eps_p[active] += d_gamma[:, None] * normal
+        new_alpha_p[active] += d_gamma
+        plastic_increment[active] = d_gamma
+        softening[active] = (two_G**2)[:, None, None] * (
+            (1.0 / (two_G + K_H))[:, None, None] * nn + (d_gamma / q)[:, None, None] * (DEVIATORIC - nn)
+        )
+    return PlasticStep(new_eps_p, new_alpha_p, plastic_increment, softening, active)
+
+
+def uniaxial_yield_stress(r_p: float) -> float:
+    """Uniaxial yield stress ``sigma_0 = sqrt(3/2) r_p`` of the yield function (6.51) (MPa)."""
+    return float(np.sqrt(1.5) * r_p)
+
+
+def uniaxial_hardening_modulus(K_H: float) -> float:
+    """Slope of uniaxial stress against axial plastic strain, ``1.5 K_H`` (MPa), since ``alpha_p = |eps_p|``."""
+    return 1.5 * K_H
+
+
+@dataclass(frozen=True)
+class VonMisesPlasticity(IsotropicElasticity):
+    """Elastoplastic material of Table 6.1: ``E``, ``nu``, yield limit ``r_p`` and hardening ``K_H`` (MPa).
+
+    State: ``eps``, ``eps_p`` (Mandel, deviatoric), ``alpha_p`` and ``dissipation`` (accumulated
+    ``r_p |d eps_p|``, Eq. 6.6, MPa). ``integration`` is ``"explicit"`` (seed, 6.59) or ``"implicit"``.
+    """
+
+    E: float
+    nu: float
+    r_p: float
+    K_H: float = 0.0
+    integration: str = "explicit"
+
+    def __post_init__(self):
+        object.__setattr__(self, "E", check_positive("E", self.E))
+        object.__setattr__(self, "nu", check_poisson("nu", self.nu))
+        object.__setattr__(self, "r_p", check_positive("r_p", self.r_p))
+        object.__setattr__(self, "K_H", check_positive("K_H", self.K_H, allow_zero=True))
+        check_option("integration", self.integration, INTEGRATIONS)
+        self._init_elasticity()
+
+    def initial_state(self, shape: tuple[int, ...]) -> dict[str, np.ndarray]:
+        return {
+            "eps": np.zeros((*shape, 6)),
+            "eps_p": np.zeros((*shape, 6)),
+            "alpha_p": np.zeros(shape),
+            "dissipation": np.zeros(shape),
+        }
+
+    def update(self, state, eps, dt: float = 1.0, **loading) -> MaterialResponse:
+        """Stress ``E : (eps - eps_p^{m+1})`` (6.3) after the return map, algorithmic tangent, new state."""
+        eps = check_strain(eps)
+        step = plastic_step(eps, state["eps_p"], state["alpha_p"], self.mu, self.r_p, self.K_H, self.integration)
+        stress = (eps - step.eps_p) @ self.stiffness
+        new_state = {
+            "eps": eps.copy(),
+            "eps_p": step.eps_p,
+            "alpha_p": step.alpha_p,
+            "dissipation": state["dissipation"] + self.r_p * step.plastic_increment,
+        }
+        return MaterialResponse(stress, self.stiffness - step.softening, new_state)
+
+    def stored_energy(self, state) -> np.ndarray:
+        """``Psi = 1/2 (eps - eps_p) : E : (eps - eps_p) + 1/2 K_H alpha_p^2``, Eq. (6.2) (MPa)."""
+        return self.elastic_energy(state["eps"] - state["eps_p"]) + 0.5 * self.K_H * state["alpha_p"] ** 2
+
+    def dissipation(self, state) -> np.ndarray:
+        """Accumulated plastic dissipation ``sum r_p |d eps_p|``, Eq. (6.6) (MPa)."""
+        return state["dissipation"]
