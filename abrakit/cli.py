@@ -11,6 +11,7 @@ import time
 DEMOS = {
     "tensors": "abrakit.tensors",
     "evolution": "abrakit.evolution",
+    "dem": "abrakit.dem",
     "identification": "abrakit.identification",
     "wear": "abrakit.wear",
     "materials": "abrakit.materials",

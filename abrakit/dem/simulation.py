@@ -1,0 +1,545 @@
+"""The DEM calculation cycle of Fig. 4.1 in one class: :meth:`Simulation.step` is the whole time step.
+
+    contact detection (Verlet list)  →  force–displacement law at every contact (Eq. 4.1–4.14)
+        →  Newton's second law with local damping  →  leap-frog update (seed 002, Eq. 5–10)  →  walls move
+
+Units SI. The engine is deterministic: the same input gives bit-identical results (scenes draw their random
+packings from ``np.random.default_rng(seed)``).
+
+Time step. ``dt=None`` (default) chooses Δt = ``safety`` · Δt_crit and re-evaluates it whenever the neighbour list
+is rebuilt (contacts appear, Hertz contacts stiffen). A user-given ``dt`` above Δt_crit is refused with a
+:class:`TimeStepError` (``dt_policy="raise"``) or replaced by ``safety`` · Δt_crit with a warning
+(``dt_policy="reduce"``); it is never run silently unstable.
+"""
+
+from __future__ import annotations
+
+import warnings
+from dataclasses import dataclass
+
+import numpy as np
+from tqdm.auto import tqdm
+
+from abrakit.dem.bonds import CrackLog, ParallelBonds, parallel_bond_update
+from abrakit.dem.clumps import make_clumps
+from abrakit.dem.contact_laws import ContactForces, Linear, cross, dot, force_displacement, rowdot
+from abrakit.dem.integrate import critical_time_step, leapfrog, local_damping, particle_stiffness
+from abrakit.dem.neighbours import VerletList, candidate_pairs, transfer_history, wall_candidates
+from abrakit.dem.state import ContactSet, Particles, pair_keys
+from abrakit.dem.walls import Walls
+from abrakit.validation import check_finite, check_option, check_positive, check_range
+
+__all__ = ["EnergyAccount", "ParticleEscapeError", "Simulation", "TimeStepError"]
+
+
+class TimeStepError(ValueError):
+    """The requested time step exceeds the critical one."""
+
+
+class ParticleEscapeError(RuntimeError):
+    """A particle left the simulation domain."""
+
+
+@dataclass
+class EnergyAccount:
+    """Energy bookkeeping [J]. Stored parts are evaluated at the time of the last force evaluation; the
+    dissipated parts and the work of walls, applied forces and prescribed motions are running sums."""
+
+    kinetic: float = 0.0
+    elastic: float = 0.0
+    potential: float = 0.0
+    friction: float = 0.0
+    local_damping: float = 0.0
+    dashpot: float = 0.0
+    work_walls: float = 0.0
+    work_applied: float = 0.0
+    work_prescribed: float = 0.0
+    initial: float | None = None
+
+    @property
+    def stored(self) -> float:
+        return self.kinetic + self.elastic + self.potential
+
+    @property
+    def dissipated(self) -> float:
+        return self.friction + self.local_damping + self.dashpot
+
+    @property
+    def work(self) -> float:
+        return self.work_walls + self.work_applied + self.work_prescribed
+
+    @property
+    def error(self) -> float:
+        """Closure: (stored + dissipated) − (initial stored + work in); zero for exact bookkeeping."""
+        return self.stored + self.dissipated - (self.initial or 0.0) - self.work
+
+
+def gather(a, index):
+    """Rows ``a[index]`` of an (N, 3) array as a component-major (3, M) array (``np.take`` is the fast gather)."""
+    return np.take(a.T, index, axis=1)
+
+
+def _scatter(out, index, values, sign=1.0):
+    """out[index] += sign · values for (N, 3) ``out`` and (3, M) ``values``, summed with np.bincount."""
+    n = len(out)
+    for k in range(3):
+        out[:, k] += sign * np.bincount(index, values[k], n)
+
+
+class Simulation:
+    """A DEM run: particles, a contact law, walls, bonds, clumps and the time step.
+
+    Parameters
+    ----------
+    particles : Particles
+    law : contact law (:class:`~abrakit.dem.contact_laws.Linear` by default)
+    walls : Walls, optional
+    gravity : (3,) [m/s²]
+    dt : time step [s]; ``None`` chooses it (see module doc)
+    safety : C_s in Δt = C_s Δt_crit (seed 002 Eq. 11)
+    local_damping : α of seed 002 Eq. (5)/(6), 0 ≤ α < 1 (0.7 for quasi-static runs)
+    skin : Verlet skin [m] (default 0.2 · mean radius)
+    domain : ``(lower, upper)`` box; a particle outside it is an escape, handled by ``escape``
+    escape : "raise" (:class:`ParticleEscapeError`) or "remove" (the particle is deleted and counted)
+    planar : 2D mode, motion in the x–y plane only (use :meth:`Particles.disks`)
+    track_energy : keep :attr:`energy` (costs a few percent)
+    kernel : "numpy" (default) or "numba" (compiled particle–particle loop for the linear law, extra ``fast``)
+    """
+
+    def __init__(self, particles: Particles, *, law=None, walls: Walls | None = None, gravity=(0.0, 0.0, 0.0),
+                 dt: float | None = None, safety: float = 0.8, dt_policy: str = "raise",
+                 local_damping: float = 0.0, skin: float | None = None, domain=None, escape: str = "raise",
+                 planar: bool = False, track_energy: bool = True, kernel: str = "numpy"):
+        if not isinstance(particles, Particles) or len(particles) == 0:
+            raise ValueError("particles must be a non-empty Particles set (see Particles.spheres)")
+        self.particles = particles
+        self.law = Linear() if law is None else law
+        self.kernel = check_option("kernel", kernel, ("numpy", "numba"))
+        if kernel == "numba":
+            from abrakit.dem.kernels import HAVE_NUMBA
+            if not HAVE_NUMBA:
+                raise ImportError("kernel='numba' needs numba: pip install abrakit[fast]")
+            if type(self.law) is not Linear:
+                raise ValueError("kernel='numba' implements the Linear law only; use kernel='numpy'")
+        self.walls = Walls() if walls is None else walls
+        self.gravity = np.asarray(check_finite("gravity", gravity), float).reshape(3)
+        self.safety = check_range("safety", safety, 0.0, 1.0, low_open=True)
+        self.dt_policy = check_option("dt_policy", dt_policy, ("raise", "reduce"))
+        self.local_damping = check_range("local_damping", local_damping, 0.0, 1.0, high_open=True)
+        self.skin = 0.2 * float(np.mean(particles.radius)) if skin is None else check_positive("skin", skin)
+        if domain is not None:
+            domain = np.asarray(check_finite("domain", domain), float)
+            if domain.shape != (2, 3) or np.any(domain[1] <= domain[0]):
+                raise ValueError(f"domain must be ((xmin, ymin, zmin), (xmax, ymax, zmax)) with max > min, "
+                                 f"got {domain.tolist()}")
+        self.domain = domain
+        self.escape = check_option("escape", escape, ("raise", "remove"))
+        self.planar = bool(planar)
+        self.track_energy = bool(track_energy)
+        self.auto_dt = dt is None
+        self._dt = np.inf if dt is None else check_positive("dt", dt)
+        self.time = 0.0
+        self.step_count = 0
+        self.removed = 0
+        self.applied_force: np.ndarray | None = None     # (N, 3) external forces [N], optional
+        self.parallel_bonds = ParallelBonds.empty()
+        self.cracks = CrackLog()
+        self.energy = EnergyAccount()
+        self.neighbours = VerletList(self.skin)
+        self.contacts = ContactSet.empty_history([], [], len(particles))
+        self.wall_contacts = ContactSet.empty_history([], [], len(particles))
+        self.clumps = make_clumps(particles)
+        if self.planar:
+            particles.x[:, 2] = particles.v[:, 2] = 0.0
+            particles.w[:, :2] = 0.0
+        self.refresh()
+
+    @property
+    def dt(self) -> float:
+        """The time step [s]. Assigning a value fixes it (no longer automatic) and applies ``dt_policy``."""
+        return self._dt
+
+    @dt.setter
+    def dt(self, value: float) -> None:
+        self._dt = check_positive("dt", value)
+        self.auto_dt = False
+        self.update_time_step()
+
+    # ------------------------------------------------------------------ the calculation cycle (Fig. 4.1)
+    def step(self) -> None:
+        """One time step: contacts → forces → Newton + damping → leap-frog → walls."""
+        if self.neighbours.needs_rebuild(self.particles.x, self.walls.point):
+            self.rebuild()
+        p, dt = self.particles, self.dt
+        force = p.mass[:, None] * self.gravity + (0.0 if self.applied_force is None else self.applied_force)
+        torque = np.zeros_like(force)
+        if self.track_energy and (self.law.damping_normal or self.law.damping_shear):
+            self._dashpot, self._dashpot_wall = np.zeros((2, len(p), 3)), 0.0   # dashpot force/moment sums
+        stored = self._ball_ball(force, torque)                  # Eq. (4.1)–(4.14), contact bonds
+        stored += self._ball_wall(force, torque)
+        stored += self._parallel_bonds(force, torque)
+        v_old, w_old = (p.v.copy(), p.w.copy()) if self.track_energy else (None, None)
+        force_total, torque_total = force, torque
+        if self.local_damping:                                    # seed 002 Eq. (5), (6)
+            force_total = force + local_damping(force, p.v, self.local_damping)
+            torque_total = torque + local_damping(torque, p.w, self.local_damping)
+        if self.planar:                                           # 2D: motion in the x–y plane only
+            force_total[:, 2] = 0.0
+            torque_total[:, :2] = 0.0
+        kick = 0.5 * dt if self.step_count == 0 else dt             # v given at t = 0: start with a half kick
+        leapfrog(p.x, p.v, p.w, force_total, torque_total, self.inv_mass, self.inv_inertia, dt, kick)  # Eq. 7–9
+        clump_damping = 0.0
+        if self.clumps is not None:
+            clump_damping = self.clumps.step(p, force, torque, dt, self.local_damping, kick)
+        wall_velocity_old = self.walls.velocity.copy()
+        for servo in self.walls.servos:
+            servo.update(self.walls, self._wall_stiffness[servo.wall], dt)
+        self.walls.move(dt)
+        if self.track_energy:
+            self._account(stored, force, force_total - force, torque_total - torque, v_old, w_old,
+                          wall_velocity_old, clump_damping)
+        self.time += dt
+        self.step_count += 1
+
+    def _ball_ball(self, force, torque) -> float:
+        """Particle–particle contacts: geometry (Eq. 4.1–4.4), force–displacement law, sums onto particles."""
+        p, c = self.particles, self.contacts
+        if not len(c):
+            return self._no_contacts(c)
+        i, j = c.i, c.j
+        if self.kernel == "numba":
+            r, overlap, n = self._ball_ball_compiled(force, torque)
+        else:
+            d = gather(p.x, j) - gather(p.x, i)
+            dist = np.sqrt(dot(d, d))                                 # Eq. (4.2)
+            n = d / dist                                              # Eq. (4.1)
+            overlap = self._radius_sum - dist                         # Eq. (4.3)
+            arm_i = self._radius_i - 0.5 * overlap                    # Eq. (4.4): centre to contact point
+            arm_j = self._radius_j - 0.5 * overlap
+            v_rel = gather(p.v, j) - gather(p.v, i) - cross(arm_i * gather(p.w, i) + arm_j * gather(p.w, j), n)
+            r = force_displacement(self.law, c.prm, overlap, n, v_rel, c.ft, self.dt, c.bonded, c.bond_gap,
+                                   c.bond_normal_strength, c.bond_shear_strength, energy=self.track_energy)
+            _scatter(force, j, r.force)                               # B receives +F, A receives −F
+            _scatter(force, i, r.force, -1.0)
+            lever = cross(n, r.force)                                 # moment arm × force: −r' n × F
+            _scatter(torque, i, arm_i * lever, -1.0)
+            _scatter(torque, j, arm_j * lever, -1.0)
+        c.ft, c.overlap, c.normal, c.fn, c.force = r.ft, overlap, n, r.fn, r.force
+        if r.tension_failure.any() or r.shear_failure.any():
+            self._record_contact_cracks(r, gather(p.x, i) + (self._radius_i - 0.5 * overlap) * n)
+        if not self.track_energy:
+            return 0.0
+        self.energy.friction += r.slip_dissipation
+        if r.dashpot_force is not None:      # dashpot power is counted on the particles, like local damping
+            f, lever = r.dashpot_force, cross(n, r.dashpot_force)
+            _scatter(self._dashpot[0], j, f)
+            _scatter(self._dashpot[0], i, f, -1.0)
+            _scatter(self._dashpot[1], i, (self._radius_i - 0.5 * overlap) * lever, -1.0)
+            _scatter(self._dashpot[1], j, (self._radius_j - 0.5 * overlap) * lever, -1.0)
+        return self._elastic_energy(c, overlap, r)
+
+    def _ball_ball_compiled(self, force, torque):
+        """The same contact step through the numba kernel (:mod:`abrakit.dem.kernels`)."""
+        from abrakit.dem.kernels import linear_contacts
+
+        p, c, prm = self.particles, self.contacts, self.contacts.prm
+        m = len(c)
+        overlap, fn, trial = np.empty(m), np.empty(m), np.empty(m)
+        n, total, dashpot = np.empty((3, m)), np.empty((3, m)), np.empty((3, m))
+        flags = np.empty((4, m), np.bool_)
+        ft = c.ft.copy()
+        linear_contacts(p.x, p.v, p.w, self._radius_sum, self._radius_i, self._radius_j, c.i, c.j, prm["kn"],
+                        prm["kt"], prm["mu"], prm["beta_n"], prm["beta_t"], ft, c.bonded, c.bond_gap,
+                        c.bond_normal_strength, c.bond_shear_strength, self.dt, force, torque, overlap, n, fn,
+                        total, dashpot, trial, flags)
+        slip = 0.0
+        if self.track_energy and flags[1].any():                  # as in force_displacement: μF^n · slip
+            limit = prm["mu"] * fn
+            length = np.divide(trial - limit, prm["kt"], out=np.zeros(m), where=flags[1] & (prm["kt"] > 0))
+            slip = float(np.sum(limit * length))
+        damped = self.law.damping_normal or self.law.damping_shear
+        r = ContactForces(total, fn, ft, flags[0], flags[1], flags[2], flags[3], slip,
+                          dashpot if damped else None, prm["kn"], prm["kt"])
+        return r, overlap, n
+
+    def _ball_wall(self, force, torque) -> float:
+        """Particle–wall contacts: the wall is body A, its normal the contact normal."""
+        p, c, walls = self.particles, self.wall_contacts, self.walls
+        walls.force[:] = 0.0
+        self._wall_stiffness = np.zeros(len(walls))
+        if not len(c):
+            return self._no_contacts(c)
+        k, j = c.i, c.j
+        n = gather(walls.normal, k)
+        overlap = self._radius_wall - dot(gather(p.x, j) - gather(walls.point, k), n)
+        arm = self._radius_wall - 0.5 * overlap
+        v_rel = gather(p.v, j) - gather(walls.velocity, k) - cross(arm * gather(p.w, j), n)
+        r = force_displacement(self.law, c.prm, overlap, n, v_rel, c.ft, self.dt, energy=self.track_energy)
+        c.ft, c.overlap, c.normal, c.fn, c.force = r.ft, overlap, n, r.fn, r.force
+        _scatter(force, j, r.force)
+        _scatter(torque, j, arm * cross(n, r.force), -1.0)
+        _scatter(walls.force, k, r.force, -1.0)
+        self._wall_stiffness = np.bincount(k, r.kn * r.touching, len(walls))
+        if not self.track_energy:
+            return 0.0
+        self.energy.friction += r.slip_dissipation
+        if r.dashpot_force is not None:      # the wall's share of dashpot power is −F_d · v_wall
+            f = r.dashpot_force
+            _scatter(self._dashpot[0], j, f)
+            _scatter(self._dashpot[1], j, arm * cross(n, f), -1.0)
+            self._dashpot_wall += float(np.sum(f * gather(walls.velocity, k)))
+        return self._elastic_energy(c, overlap, r)
+
+    @staticmethod
+    def _no_contacts(c) -> float:
+        c.overlap, c.fn = np.zeros(0), np.zeros(0)
+        c.normal, c.force = np.zeros((3, 0)), np.zeros((3, 0))
+        return 0.0
+
+    def _parallel_bonds(self, force, torque) -> float:
+        b = self.parallel_bonds
+        if not len(b):
+            return 0.0
+        p = self.particles
+        new, f, t_i, t_j, tension, shear, point = parallel_bond_update(b, p.x, p.v, p.w, p.radius, self.dt)
+        _scatter(force, new.j, f)
+        _scatter(force, new.i, f, -1.0)
+        _scatter(torque, new.i, t_i)
+        _scatter(torque, new.j, t_j)
+        broken = tension | shear
+        if broken.any():
+            for mode, mask in (("tension", tension), ("shear", shear)):
+                self.cracks.record(self.time, point[:, mask].T, new.i[mask], new.j[mask], mode, "parallel")
+            new = new.take(~broken)
+        self.parallel_bonds = new
+        return new.energy() if self.track_energy else 0.0
+
+    def _elastic_energy(self, c, overlap, r) -> float:
+        prm = c.prm
+        normal = self.law.normal_energy(overlap, prm)
+        if c.bonded.any():
+            normal = np.where(c.bonded, 0.5 * prm["kn"] * (overlap + c.bond_gap) ** 2, normal)
+        kt = np.broadcast_to(r.kt, r.fn.shape)
+        shear = np.divide(0.5 * dot(r.ft, r.ft), kt, out=np.zeros_like(r.fn), where=kt > 0)
+        return float(np.sum(normal * r.touching) + np.sum(shear))
+
+    def _record_contact_cracks(self, r, point):
+        c = self.contacts
+        for mode, mask in (("tension", r.tension_failure), ("shear", r.shear_failure)):
+            self.cracks.record(self.time, point[:, mask].T, c.i[mask], c.j[mask], mode, "contact")
+        c.bonded = c.bonded & ~(r.tension_failure | r.shear_failure)
+
+    def _account(self, stored, force, damping_force, damping_torque, v_old, w_old, wall_velocity_old,
+                 clump_damping):
+        """Stored energies at time t and this step's dissipation and external work (leap-frog mid values)."""
+        p, e, dt = self.particles, self.energy, self.dt
+        v_mid, w_mid = 0.5 * (v_old + p.v), 0.5 * (w_old + p.w)      # velocities at time t
+        if self.step_count == 0:
+            v_mid, w_mid = v_old, w_old
+        free = p.clump < 0
+        e.kinetic = 0.5 * float(np.sum(p.mass[free] * rowdot(v_mid[free], v_mid[free]))
+                                + np.sum(p.inertia[free] * rowdot(w_mid[free], w_mid[free])))
+        if self.clumps is not None:
+            e.kinetic += self.clumps.kinetic_mid
+        e.elastic = stored
+        e.potential = -float(np.sum(p.mass * ((p.x - p.v * dt) @ self.gravity)))   # positions at time t
+        if self.step_count == 0:
+            e.local_damping = e.dashpot = 0.0        # a half kick: the work of the first half step is not booked
+        movable = (free & ~p.fixed)[:, None]
+        if self.local_damping:
+            e.local_damping -= float(np.sum(damping_force * v_mid * movable)
+                                     + np.sum(damping_torque * w_mid * movable)) * dt
+            e.local_damping += clump_damping
+        if self.law.damping_normal or self.law.damping_shear:
+            f, m = self._dashpot
+            e.dashpot -= float(np.sum(f * v_mid) + np.sum(m * w_mid) - self._dashpot_wall) * dt
+        if self.applied_force is not None:
+            e.work_applied += float(np.sum(self.applied_force * v_mid)) * dt
+        if p.fixed.any():
+            e.work_prescribed -= float(np.sum(force[p.fixed] * p.v[p.fixed])) * dt
+        if len(self.walls):
+            wall_v = 0.5 * (wall_velocity_old + self.walls.velocity)
+            e.work_walls -= float(np.sum(self.walls.force * wall_v)) * dt
+        if e.initial is None:
+            e.initial = e.stored
+
+    # ------------------------------------------------------------------ neighbour lists and time step
+    def rebuild(self, extra_pairs=None, skin: float | None = None) -> None:
+        """Rebuild the Verlet lists (keeping contact history and intact bonds) and re-check the time step."""
+        if skin is not None and skin > self.skin:
+            self.skin = self.neighbours.skin = float(skin)
+        self._check_domain()
+        p = self.particles
+        n = len(p)
+        i, j = candidate_pairs(p.x, p.radius, self.skin, p.clump if self.clumps is not None else None)
+        keys = pair_keys(i, j, n)
+        old = self.contacts
+        forced = [old.keys[old.bonded]] if len(old) else []
+        if extra_pairs is not None and len(extra_pairs):
+            forced.append(pair_keys(extra_pairs[:, 0], extra_pairs[:, 1], n))
+        forced = [f for f in forced if len(f)]
+        if forced:
+            keys = np.union1d(keys, np.concatenate(forced))
+            i, j = keys // n, keys % n
+        new = transfer_history(old, ContactSet.empty_history(i, j, n))
+        new.prm = self.law.pair_parameters(p, i, j)
+        d = p.x[j] - p.x[i]
+        coincident = rowdot(d, d) <= (1e-12 * (p.radius[i] + p.radius[j])) ** 2
+        if coincident.any():
+            a = int(np.argmax(coincident))
+            raise ValueError(f"particles {i[a]} and {j[a]} have coincident centres: the contact normal "
+                             "(Eq. 4.1) is undefined; separate them")
+        self.contacts = new
+        self._radius_i, self._radius_j = p.radius[i], p.radius[j]
+        self._radius_sum = self._radius_i + self._radius_j
+        k, jw = wall_candidates(p.x, p.radius, self.walls, self.skin)
+        wall_new = transfer_history(self.wall_contacts, ContactSet.empty_history(k, jw, n))
+        wall_new.prm = self.law.wall_parameters(p, self.walls, k, jw)
+        self.wall_contacts = wall_new
+        self._radius_wall = p.radius[jw]
+        self._wall_stiffness = np.zeros(len(self.walls))
+        self.neighbours.mark_built(p.x, self.walls.point)
+        self.update_time_step()
+
+    def refresh(self) -> None:
+        """Re-derive everything cached from particle properties (call after changing radii, masses, stiffness)."""
+        p = self.particles
+        movable = ~p.fixed & (p.clump < 0)
+        self.inv_mass = np.where(movable, 1.0 / p.mass, 0.0)
+        self.inv_inertia = np.where(movable, 1.0 / p.inertia, 0.0)
+        self.rebuild()
+
+    def scale_radii(self, factor, *, keep_mass: bool = False) -> None:
+        """Radius expansion: multiply the radii by ``factor`` (scalar or per particle), in place.
+
+        Masses and inertias follow at constant density (m ∝ r³, I ∝ r⁵) unless ``keep_mass``; contact history and
+        bonds are kept; the contact parameters and the time step are re-derived (:meth:`refresh`).
+        """
+        if self.clumps is not None:
+            raise ValueError("scale_radii does not rescale clumps (their member offsets are rigid)")
+        p = self.particles
+        factor = np.broadcast_to(check_positive("factor", factor), p.radius.shape)
+        p.radius *= factor
+        if not keep_mass:
+            p.mass *= factor**3
+            p.inertia *= factor**5
+        self.refresh()
+
+    def critical_time_step(self) -> float:
+        """Δt_crit = min √(m/Σk), √(I/Σk_rot) over the current candidate contacts (seed 002 Eq. 12) [s].
+
+        Every particle counts at least one contact with a particle like itself, at 1 % overlap for Hertz, so
+        the estimate is finite (and safe for a first impact) even in a loose gas.
+        """
+        p, law, n = self.particles, self.law, len(self.particles)
+        springs_t, springs_r = [], []
+        for c, sides in ((self.contacts, ("i", "j")), (self.wall_contacts, ("j",))):
+            if not len(c):
+                continue
+            radius_sum = (p.radius[c.i] + p.radius[c.j]) if len(sides) == 2 else p.radius[c.j]
+            if len(sides) == 2:
+                gap_overlap = radius_sum - np.linalg.norm(p.x[c.j] - p.x[c.i], axis=1)
+            else:
+                gap_overlap = p.radius[c.j] - rowdot(p.x[c.j] - self.walls.point[c.i], self.walls.normal[c.i])
+            reference = 0.01 * (p.radius[c.j] if len(sides) == 1 else np.minimum(p.radius[c.i], p.radius[c.j]))
+            fn, kn = law.normal_force(np.maximum(gap_overlap, reference), c.prm)
+            kt = np.broadcast_to(law.shear_stiffness(fn, c.prm), fn.shape)
+            kn = np.broadcast_to(kn, fn.shape)
+            for side in sides:
+                idx = getattr(c, side)
+                springs_t.append((idx, np.maximum(kn, kt)))
+                springs_r.append((idx, kt * p.radius[idx] ** 2))
+        b = self.parallel_bonds
+        if len(b):
+            for idx in (b.i, b.j):
+                springs_t.append((idx, np.maximum(b.kn, b.ks) * b.area))
+                springs_r.append((idx, np.maximum(b.kn * b.inertia, b.ks * b.polar)
+                                  + b.ks * b.area * p.radius[idx] ** 2))
+        all_ = np.arange(n)
+        self_prm = law.pair_parameters(p, all_, all_)
+        fn, kn = law.normal_force(0.01 * p.radius, self_prm)
+        kt = np.broadcast_to(law.shear_stiffness(fn, self_prm), fn.shape)
+        k_t = np.maximum(particle_stiffness(n, springs_t), np.maximum(kn, kt))
+        k_r = np.maximum(particle_stiffness(n, springs_r), kt * p.radius**2)
+        return critical_time_step(p.mass, p.inertia, k_t, k_r, movable=~p.fixed)
+
+    def update_time_step(self) -> float:
+        """Apply the time-step policy after the contact set changed; returns Δt_crit."""
+        dt_crit = self.critical_time_step()
+        if self.auto_dt:
+            self._dt = self.safety * dt_crit
+        elif self._dt > dt_crit:
+            if self.dt_policy == "raise":
+                raise TimeStepError(
+                    f"dt = {self._dt:.4g} s exceeds the critical time step {dt_crit:.4g} s (seed 002 Eq. 11, 12); "
+                    f"use dt <= {self.safety * dt_crit:.4g} s, dt=None (automatic) or dt_policy='reduce'")
+            warnings.warn(f"dt = {self._dt:.4g} s exceeds the critical time step {dt_crit:.4g} s; reduced to "
+                          f"{self.safety * dt_crit:.4g} s", RuntimeWarning, stacklevel=3)
+            self._dt = self.safety * dt_crit
+        if not np.isfinite(self._dt):
+            raise TimeStepError("no stiffness in the system: give dt explicitly")
+        return dt_crit
+
+    # ------------------------------------------------------------------ domain, running
+    def _check_domain(self) -> None:
+        if self.domain is None:
+            return
+        p = self.particles
+        outside = np.any((p.x < self.domain[0]) | (p.x > self.domain[1]), axis=1)
+        if not outside.any():
+            return
+        idx = np.flatnonzero(outside)
+        if self.escape == "raise":
+            raise ParticleEscapeError(
+                f"{len(idx)} particle(s) left the domain {self.domain.tolist()} at t = {self.time:.6g} s, "
+                f"first: index {idx[0]} at {p.x[idx[0]].tolist()}; use escape='remove' to delete escapees")
+        self.remove_particles(outside, rebuild=False)
+
+    def remove_particles(self, mask, *, rebuild: bool = True) -> None:
+        """Delete particles (boolean ``mask``), keeping the history of the remaining contacts and bonds."""
+        p = self.particles
+        mask = np.asarray(mask, bool)
+        if np.any(p.clump[mask] >= 0):
+            raise ValueError("clump members cannot be removed one by one")
+        keep = np.flatnonzero(~mask)
+        new_index = np.full(len(p), -1, np.int64)
+        new_index[keep] = np.arange(len(keep))
+        n_new = len(keep)
+        for name in ("contacts", "wall_contacts"):
+            c = getattr(self, name)
+            ok = (new_index[c.j] >= 0) & ((new_index[c.i] >= 0) if name == "contacts" else True)
+            i = new_index[c.i[ok]] if name == "contacts" else c.i[ok]
+            j = new_index[c.j[ok]]
+            fresh = ContactSet.empty_history(i, j, n_new)
+            for h in ContactSet.HISTORY:
+                getattr(fresh, h)[:] = getattr(c, h)[..., ok]
+            setattr(self, name, fresh)
+        b = self.parallel_bonds
+        ok = (new_index[b.i] >= 0) & (new_index[b.j] >= 0)
+        b = b.take(ok)
+        b.i, b.j = new_index[b.i], new_index[b.j]
+        self.parallel_bonds = b
+        if self.applied_force is not None:
+            self.applied_force = self.applied_force[keep]
+        self.particles = p.take(keep)
+        self.removed += int(mask.sum())
+        movable = ~self.particles.fixed & (self.particles.clump < 0)
+        self.inv_mass = np.where(movable, 1.0 / self.particles.mass, 0.0)
+        self.inv_inertia = np.where(movable, 1.0 / self.particles.inertia, 0.0)
+        self.neighbours.x_ref = None
+        if rebuild:
+            self.rebuild()
+
+    def run(self, steps: int, *, callback=None, every: int = 1, progress: bool | None = None,
+            desc: str = "DEM") -> Simulation:
+        """Take ``steps`` steps, calling ``callback(sim)`` every ``every`` steps (and after the last).
+
+        ``progress``: a tqdm bar; ``None`` shows it for runs of at least 20 000 steps on a terminal.
+        """
+        steps = int(steps)
+        disable = (steps < 20_000 or None) if progress is None else not progress
+        for s in tqdm(range(steps), desc=desc, disable=disable, mininterval=1.0):
+            self.step()
+            if callback is not None and ((s + 1) % every == 0 or s == steps - 1):
+                callback(self)
+        return self

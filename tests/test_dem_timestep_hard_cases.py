@@ -1,0 +1,189 @@
+"""Critical time step (seed 002 Eq. 11, 12) and the hard cases: overlaps, escapes, bad input, stiffness ratios."""
+
+import warnings
+
+import numpy as np
+import pytest
+
+from abrakit.dem import (
+    HertzMindlin,
+    Linear,
+    ParticleEscapeError,
+    Particles,
+    Simulation,
+    TimeStepError,
+    Walls,
+    critical_time_step,
+    energy_balance,
+)
+
+
+def resting_sphere(**kw):
+    walls = Walls()
+    walls.add((0, 0, 0), (0, 0, 1))
+    p = Particles.spheres([[0, 0, 0.01]], 0.01, 2650.0, kn=1e5, kt=4e4)
+    return p, Simulation(p, walls=walls, skin=0.002, **kw)
+
+
+def test_critical_time_step_of_a_sphere_on_a_wall():
+    """One contact: Δt_crit = min(√(m/K^n), √(I/(K^t r²))) (seed 002 Eq. 12)."""
+    p, sim = resting_sphere()
+    m, I = p.mass[0], p.inertia[0]
+    expected = min(np.sqrt(m / 1e5), np.sqrt(I / (4e4 * 0.01**2)))
+    assert sim.critical_time_step() == pytest.approx(expected)
+    assert sim.dt == pytest.approx(0.8 * expected)                    # automatic: safety · Δt_crit
+
+
+def test_critical_time_step_function_sums_stiffness():
+    dt = critical_time_step(np.array([2.0, 8.0]), np.array([1.0, 1.0]), np.array([2.0, 2.0]), np.zeros(2))
+    assert dt == pytest.approx(1.0)
+    assert critical_time_step(np.ones(1), np.ones(1), np.zeros(1), np.zeros(1)) == np.inf
+
+
+def test_step_above_critical_is_refused():
+    _, sim = resting_sphere()
+    dt_crit = sim.critical_time_step()
+    with pytest.raises(TimeStepError, match="critical time step"):
+        resting_sphere(dt=1.5 * dt_crit)
+
+
+def test_step_above_critical_is_reduced_on_request():
+    _, sim = resting_sphere()
+    dt_crit = sim.critical_time_step()
+    with pytest.warns(RuntimeWarning, match="reduced"):
+        p, sim = resting_sphere(dt=3 * dt_crit, dt_policy="reduce", gravity=(0, 0, -9.81))
+    assert sim.dt == pytest.approx(0.8 * dt_crit)
+    sim.run(2000)
+    assert abs(p.x[0, 2] - 0.01) < 1e-3                                  # still resting, not exploded
+
+
+def test_assigning_an_unstable_step_is_refused():
+    p, sim = resting_sphere()
+    with pytest.raises(TimeStepError):
+        sim.dt = 2.5 * np.sqrt(p.mass[0] / 1e5)
+    sim.dt = 0.5 * sim.critical_time_step()                              # a stable value is accepted
+    assert not sim.auto_dt
+
+
+def test_divergence_is_stopped_with_a_clear_error():
+    """Last line of defence: if the leap-frog diverges anyway (here the private step is forced beyond 2/ω on a
+    bonded pair), the run stops at the next neighbour check — with a time-step error, or, had positions become
+    non-finite first, a FloatingPointError — instead of carrying NaNs."""
+    from abrakit.dem import VerletList, install_contact_bonds
+
+    p = Particles.spheres([[0, 0, 0], [0.02, 0, 0]], 0.01, 2650.0, kn=2e5, v=[[0, 0, 0], [0.01, 0, 0]])
+    sim = Simulation(p, skin=0.001)
+    install_contact_bonds(sim, 1e30, 1e30)
+    sim.auto_dt, sim._dt = False, 3.0 * np.sqrt(p.mass[0] / 2 / 1e5)
+    with pytest.raises((TimeStepError, FloatingPointError), match="critical"):
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", RuntimeWarning)
+            sim.run(5000)
+    verlet = VerletList(0.001)
+    verlet.mark_built(np.zeros((2, 3)))
+    with pytest.raises(FloatingPointError, match="critical"):
+        verlet.needs_rebuild(np.array([[0, 0, 0], [np.nan, 0, 0]]))
+
+
+def test_automatic_step_follows_stiffening_hertz_contacts():
+    walls = Walls()
+    walls.add((0, 0, 0), (0, 0, 1))
+    p = Particles.spheres([[0, 0, 0.0099]], 0.01, 2650.0, shear_modulus=1e8, poisson=0.3)
+    sim = Simulation(p, walls=walls, law=HertzMindlin(), skin=1e-4)
+    dt0 = sim.dt
+    p.x[0, 2] = 0.0095                                                    # 5 % overlap: much stiffer
+    sim.rebuild()
+    assert sim.dt < 0.7 * dt0
+
+
+def test_zero_or_negative_input_is_rejected():
+    with pytest.raises(ValueError, match="radius"):
+        Particles.spheres([[0, 0, 0]], 0.0)
+    with pytest.raises(ValueError, match="radius"):
+        Particles.spheres([[0, 0, 0], [1, 0, 0]], [0.01, -0.01])
+    with pytest.raises(ValueError, match="density"):
+        Particles.spheres([[0, 0, 0]], 0.01, 0.0)
+    with pytest.raises(ValueError, match="x must be finite"):
+        Particles.spheres([[0, np.nan, 0]], 0.01)
+    with pytest.raises(ValueError, match="x must have shape"):
+        Particles.spheres([[0, 0]], 0.01)
+    with pytest.raises(ValueError, match="kn"):
+        Particles.spheres([[0, 0, 0]], 0.01, kn=0.0)
+    with pytest.raises(ValueError, match="friction"):
+        Particles.spheres([[0, 0, 0]], 0.01, friction=-0.1)
+    with pytest.raises(ValueError, match="poisson"):
+        Particles.spheres([[0, 0, 0]], 0.01, poisson=0.5)
+    with pytest.raises(ValueError, match="non-empty"):
+        Simulation(Particles.spheres(np.zeros((0, 3)), 0.01))
+    with pytest.raises(ValueError, match="normal"):
+        Walls().add((0, 0, 0), (0, 0, 0))
+    with pytest.raises(ValueError, match="local_damping"):
+        Simulation(Particles.spheres([[0, 0, 0]], 0.01), local_damping=1.0)
+
+
+def test_coincident_centres_are_rejected():
+    with pytest.raises(ValueError, match="coincident centres"):
+        Simulation(Particles.spheres([[0, 0, 0], [0, 0, 0]], 0.01))
+
+
+def test_initial_overlap_is_released_as_elastic_energy():
+    """Two spheres at rest overlapping by U₀ fly apart with relative speed U₀ ω₀ (½K U₀² = ½ m* v²)."""
+    r, K, U0 = 0.01, 1e5, 1e-4
+    p = Particles.spheres([[0, 0, 0], [2 * r - U0, 0, 0]], r, 2650.0, kn=2 * K)
+    sim = Simulation(p, skin=r, dt=0.02 * np.sqrt(p.mass[0] / K))
+    sim.run(200)
+    m_star = p.mass[0] / 2
+    assert p.v[1, 0] - p.v[0, 0] == pytest.approx(U0 * np.sqrt(K / m_star), rel=1e-3)
+    assert abs(energy_balance(sim)["relative_error"]) < 1e-3
+
+
+def test_deep_initial_overlaps_stay_finite():
+    rng = np.random.default_rng(0)
+    x = rng.uniform(0, 0.03, (40, 3))                                    # heavily overlapping cloud
+    p = Particles.spheres(x, 0.01, 2650.0, kn=1e5)
+    sim = Simulation(p, local_damping=0.7)
+    sim.run(300)
+    assert np.all(np.isfinite(p.x)) and np.all(np.isfinite(p.v))
+
+
+def _escaping(escape, with_escapee=True):
+    """A sliding contact (particles 0 and 2) far from particle 1, which flies out of the domain."""
+    x = [[0.05, 0.05, 0.05], [0.2, 0.05, 0.05], [0.05, 0.05, 0.0699]]
+    v = [[0, 0, 0], [5.0, 0, 0], [0.02, 0.01, 0]]
+    keep = [0, 1, 2] if with_escapee else [0, 2]
+    p = Particles.spheres(np.array(x)[keep], 0.01, 2650.0, v=np.array(v)[keep], kn=1e5, friction=0.5,
+                          fixed=np.array([True, False, False])[keep])
+    return p, Simulation(p, domain=((0, 0, 0), (0.25, 0.1, 0.1)), escape=escape, skin=0.005, dt=2e-5,
+                         gravity=(0, 0, -9.81), law=Linear(damping_normal=0.5))
+
+
+def test_escaping_particle_raises():
+    p, sim = _escaping("raise")
+    with pytest.raises(ParticleEscapeError, match="left the domain"):
+        sim.run(2000)
+
+
+def test_escaping_particle_removed_keeps_the_rest():
+    """Removal re-indexes contacts without losing their history: the remaining pair moves exactly as if the
+    escapee had never existed."""
+    _, sim = _escaping("remove")
+    sim.run(2000)
+    _, alone = _escaping("remove", with_escapee=False)
+    alone.run(2000)
+    assert sim.removed == 1 and len(sim.particles) == 2
+    assert np.abs(sim.contacts.ft).max() > 0                              # a loaded tangential spring
+    assert np.allclose(sim.particles.x, alone.particles.x, rtol=0, atol=1e-12)
+    assert np.allclose(sim.contacts.ft, alone.contacts.ft, rtol=1e-9, atol=1e-12)
+
+
+def test_huge_stiffness_ratio_is_stable():
+    """Soft (k) and stiff (10⁶ k) spheres in one box: the automatic step follows the stiffest contact."""
+    rng = np.random.default_rng(4)
+    x = np.stack(np.meshgrid(*(np.arange(3),) * 3, indexing="ij"), -1).reshape(-1, 3) * 0.021 + 0.0105
+    kn = np.where(np.arange(27) % 2 == 0, 1e3, 1e9)
+    p = Particles.spheres(x, 0.01, 2650.0, kn=kn, v=rng.normal(0, 0.1, (27, 3)), friction=0.3)
+    sim = Simulation(p, walls=Walls.box((0, 0, 0), (0.063,) * 3, kn=1e12))
+    assert sim.dt < 0.8 * np.sqrt(p.mass[0] / 1e9) * 1.001
+    sim.run(3000)
+    e = energy_balance(sim)
+    assert abs(e["relative_error"]) < 1e-2 and e["kinetic"] < 2 * e["initial"]
