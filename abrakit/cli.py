@@ -14,6 +14,7 @@ DEMOS = {
     "dem": "abrakit.dem",
     "identification": "abrakit.identification",
     "wear": "abrakit.wear",
+    "fem": "abrakit.fem",
     "materials": "abrakit.materials",
     "damage": "abrakit.damage.laplacian",
     "scratch": "abrakit.scratch",

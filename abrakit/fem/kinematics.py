@@ -1,0 +1,231 @@
+"""Strain–displacement operator B of Eq. (4.27)–(4.33) on scikit-fem bases, in Mandel notation.
+
+The strain at a quadrature point is ``eps = B u_e`` (Eq. 4.29), with ``B`` built from the physical gradients of
+the shape functions, ``dN/dx = J^{-1} dN/dxi`` (Eq. 4.33), which scikit-fem's :class:`~skfem.CellBasis` already
+holds. Strains and stresses are 6-vectors in Mandel order (11, 22, 33, 23, 13, 12) with shear components
+multiplied by sqrt(2), so that ``sigma . eps`` is the double contraction and ``B^T C B`` is the tangent.
+
+Plane strain (2D meshes) uses the same 6-vectors with eps33 = eps23 = eps13 = 0; the in-plane operator
+carries the Mandel components ``(0, 1, 5)``.
+
+``bbar=True`` selects the B-bar operator (Hughes 1980; "selectively reduced integration" of Abaqus' CPE4/C3D8):
+the volumetric strain at each quadrature point is replaced by its element mean,
+``eps_bar = eps + (theta_bar - theta) I / 3``, which removes volumetric locking of bilinear/trilinear elements
+in nearly incompressible (e.g. fully plastic) flow. In plane strain eps33 = (theta_bar - theta)/3 is then
+non-zero and the operator carries components ``(0, 1, 2, 5)``. The default is the seed's standard B (Eq. 4.29).
+
+Units: coordinates in mm, displacements in mm, strains dimensionless.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from functools import cached_property
+
+import numpy as np
+import skfem
+
+SQRT1_2 = np.sqrt(0.5)
+
+# eps_I = sum over rows (I, i, k, w) of w * du_i/dx_k   -- the rows of Eq. (4.28) in Mandel form
+MANDEL_GRADIENT_TABLE_3D = (
+    (0, 0, 0, 1.0), (1, 1, 1, 1.0), (2, 2, 2, 1.0),
+    (3, 1, 2, SQRT1_2), (3, 2, 1, SQRT1_2),
+    (4, 0, 2, SQRT1_2), (4, 2, 0, SQRT1_2),
+    (5, 0, 1, SQRT1_2), (5, 1, 0, SQRT1_2),
+)
+MANDEL_GRADIENT_TABLE_2D = ((0, 0, 0, 1.0), (1, 1, 1, 1.0), (5, 0, 1, SQRT1_2), (5, 1, 0, SQRT1_2))
+ACTIVE_COMPONENTS = {2: (0, 1, 5), 3: (0, 1, 2, 3, 4, 5)}
+BBAR_COMPONENTS = {2: (0, 1, 2, 5), 3: (0, 1, 2, 3, 4, 5)}
+IDENTITY = np.array([1.0, 1.0, 1.0, 0.0, 0.0, 0.0])
+
+# Explicit quadrature per element: 2x2(x2) Gauss for bilinear/trilinear, one point for constant-strain simplices.
+_CENTROID_TRI = (np.array([[1.0 / 3.0], [1.0 / 3.0]]), np.array([0.5]))
+DEFAULT_INTORDER = {
+    "ElementQuad1": 3, "ElementHex1": 3, "ElementTetP1": 1,
+    "ElementTriP2": 2, "ElementTetP2": 2, "ElementQuad2": 5, "ElementHex2": 5,
+}
+LINEAR_ELEMENT = {
+    "MeshQuad1": skfem.ElementQuad1, "MeshTri1": skfem.ElementTriP1,
+    "MeshHex1": skfem.ElementHex1, "MeshTet1": skfem.ElementTetP1,
+}
+
+
+def vector_basis(mesh: skfem.Mesh, element: skfem.Element | None = None, intorder: int | None = None):
+    """Displacement basis on ``mesh`` with the quadrature chosen explicitly.
+
+    ``element`` is the scalar Lagrange element (default: the linear element of the mesh type). Quadrature:
+    2x2 (2x2x2) Gauss for ``ElementQuad1`` (``ElementHex1``), the centroid for ``ElementTriP1``/``ElementTetP1``,
+    and the orders in ``DEFAULT_INTORDER`` otherwise; ``intorder`` overrides it.
+    """
+    if element is None:
+        name = type(mesh).__name__
+        if name not in LINEAR_ELEMENT:
+            raise TypeError(f"mesh must be one of {tuple(LINEAR_ELEMENT)}, got {name}")
+        element = LINEAR_ELEMENT[name]()
+    elem = skfem.ElementVector(element)
+    name = type(element).__name__
+    if intorder is None and name == "ElementTriP1":
+        return skfem.CellBasis(mesh, elem, quadrature=_CENTROID_TRI)
+    order = intorder if intorder is not None else DEFAULT_INTORDER.get(name, 2 * element.maxdeg)
+    return skfem.CellBasis(mesh, elem, intorder=order)
+
+
+@dataclass(frozen=True, eq=False)
+class Kinematics:
+    """Precomputed shape-function gradients of a vector basis: the data behind B of Eq. (4.29).
+
+    Attributes
+    ----------
+    basis : the scikit-fem vector :class:`~skfem.CellBasis` (``ElementVector`` of a scalar element).
+    grad_N : ``(nel, nqp, nnode, dim)`` physical gradients dN_a/dx_k at the quadrature points, Eq. (4.33), 1/mm.
+    dx : ``(nel, nqp)`` quadrature weight times |det J|, Eq. (4.35), mm^dim.
+    element_dofs : ``(nel, nbf)`` global DOF of local DOF ``a * dim + i`` (node a, component i).
+    """
+
+    basis: skfem.CellBasis
+    grad_N: np.ndarray
+    dx: np.ndarray
+    element_dofs: np.ndarray
+    bbar: bool = False
+
+    @classmethod
+    def from_basis(cls, basis: skfem.CellBasis, bbar: bool = False) -> Kinematics:
+        elem = basis.elem
+        if not isinstance(elem, skfem.ElementVector) or elem.dim != basis.mesh.dim():
+            raise TypeError(
+                "basis must be a displacement basis ElementVector(<scalar element>) of the mesh dimension, "
+                f"got {type(elem).__name__}"
+            )
+        dim = elem.dim
+        nnode = basis.Nbfun // dim
+        # local DOF j = a * dim + i is component i of scalar shape function a (skfem.ElementVector.gbasis)
+        grad_N = np.stack([basis.basis[a * dim][0].grad[0] for a in range(nnode)], axis=0)  # (a, k, e, q)
+        return cls(
+            basis=basis,
+            grad_N=np.ascontiguousarray(grad_N.transpose(2, 3, 0, 1)),
+            dx=np.asarray(basis.dx),
+            element_dofs=np.ascontiguousarray(basis.element_dofs.T),
+            bbar=bool(bbar),
+        )
+
+    @classmethod
+    def from_mesh(cls, mesh: skfem.Mesh, element=None, intorder: int | None = None, bbar: bool = False
+                  ) -> Kinematics:
+        return cls.from_basis(vector_basis(mesh, element, intorder), bbar)
+
+    # ---- sizes ---------------------------------------------------------------------------------------------
+    @property
+    def dim(self) -> int:
+        return self.grad_N.shape[-1]
+
+    @property
+    def nel(self) -> int:
+        return self.grad_N.shape[0]
+
+    @property
+    def nqp(self) -> int:
+        return self.grad_N.shape[1]
+
+    @property
+    def nbf(self) -> int:
+        return self.element_dofs.shape[1]
+
+    @property
+    def ndof(self) -> int:
+        return self.basis.N
+
+    @property
+    def components(self) -> tuple[int, ...]:
+        """Mandel components carried by B: (0, 1, 5) in plane strain ((0, 1, 2, 5) with B-bar), all six in 3D."""
+        return (BBAR_COMPONENTS if self.bbar else ACTIVE_COMPONENTS)[self.dim]
+
+    @property
+    def table(self):
+        return MANDEL_GRADIENT_TABLE_2D if self.dim == 2 else MANDEL_GRADIENT_TABLE_3D
+
+    @cached_property
+    def volume(self) -> float:
+        """Volume (3D, mm^3) or area (plane strain, mm^2 per mm thickness) of the mesh."""
+        return float(self.dx.sum())
+
+    @cached_property
+    def quadrature_points(self) -> np.ndarray:
+        """Global coordinates of the quadrature points, ``(dim, nel, nqp)``."""
+        return np.asarray(self.basis.mapping.F(self.basis.X))
+
+    # ---- Eq. (4.29) ----------------------------------------------------------------------------------------
+    def displacement_gradient(self, u: np.ndarray) -> np.ndarray:
+        """grad u at every quadrature point, ``(nel, nqp, dim, dim)`` with ``[..., i, k] = du_i/dx_k``."""
+        u_e = np.asarray(u)[self.element_dofs].reshape(self.nel, -1, self.dim)  # (e, a, i)
+        return np.einsum("eqak,eai->eqik", self.grad_N, u_e, optimize=True)
+
+    def project(self, values: np.ndarray) -> np.ndarray:
+        """L2 projection of a quadrature-point field ``(nel, nqp)`` onto the mesh vertices (linear elements).
+
+        Consistent mass where the quadrature makes it regular (quadrilaterals, hexahedra), lumped mass otherwise
+        (one-point simplices). Used to recover nodal stresses, e.g. the stress concentration at a hole.
+        """
+        import scipy.sparse as sp
+        import scipy.sparse.linalg as spla
+
+        values = np.asarray(values, dtype=float)
+        nnode = self.nbf // self.dim
+        if nnode != self.basis.mesh.t.shape[0]:
+            raise ValueError("project() needs a linear (vertex-only) element")
+        N = np.stack([np.asarray(self.basis.basis[a * self.dim][0])[0] for a in range(nnode)], axis=-1)  # (e,q,a)
+        nodes = self.element_dofs[:, :: self.dim] // self.dim
+        n = self.basis.mesh.p.shape[1]
+        rhs = np.bincount(nodes.ravel(), np.einsum("eqa,eq->ea", N, values * self.dx).ravel(), minlength=n)
+        if self.nqp < nnode:
+            mass = np.bincount(nodes.ravel(), np.einsum("eqa,eq->ea", N, self.dx).ravel(), minlength=n)
+            return rhs / mass
+        Me = np.einsum("eqa,eqb,eq->eab", N, N, self.dx)
+        rows = np.repeat(nodes, nnode, axis=1).ravel()
+        cols = np.tile(nodes, (1, nnode)).ravel()
+        M = sp.csc_matrix((Me.ravel(), (rows, cols)), shape=(n, n))
+        return spla.spsolve(M, rhs)
+
+    @cached_property
+    def mean_grad_N(self) -> np.ndarray:
+        """Volume average of dN_a/dx_k over each element, ``(nel, nnode, dim)`` (the B-bar divergence)."""
+        return np.einsum("eqak,eq->eak", self.grad_N, self.dx) / self.dx.sum(axis=1)[:, None, None]
+
+    def strain(self, u: np.ndarray) -> np.ndarray:
+        """Small strain eps = B u (Eq. 4.26, 4.29) as Mandel 6-vectors, ``(nel, nqp, 6)``."""
+        grad_u = self.displacement_gradient(u)
+        eps = np.zeros(grad_u.shape[:2] + (6,))
+        for comp, i, k, weight in self.table:
+            eps[..., comp] += weight * grad_u[..., i, k]
+        if self.bbar:
+            theta = np.trace(grad_u, axis1=-2, axis2=-1)
+            theta_bar = np.einsum("eq,eq->e", theta, self.dx) / self.dx.sum(axis=1)
+            eps += ((theta_bar[:, None] - theta) / 3.0)[..., None] * IDENTITY
+        return eps
+
+    def B(self, elements=slice(None)) -> np.ndarray:
+        """Strain operator of Eq. (4.29), ``(n, nqp, ncomp, nbf)``; rows are ``self.components``."""
+        grad_N = self.grad_N[elements]
+        n, nqp, nnode, dim = grad_N.shape
+        row = {c: r for r, c in enumerate(self.components)}
+        B = np.zeros((n, nqp, len(row), nnode, dim))
+        for comp, i, k, weight in self.table:
+            B[:, :, row[comp], :, i] += weight * grad_N[..., k]
+        if self.bbar:  # B_bar = B + m (x) (b_vol_mean - b_vol) / 3, with b_vol[a, i] = dN_a/dx_i
+            correction = (self.mean_grad_N[elements][:, None] - grad_N) / 3.0
+            for comp in range(3):
+                B[:, :, row[comp]] += correction
+        return B.reshape(n, nqp, len(row), nnode * dim)
+
+    def element_forces(self, stress: np.ndarray) -> np.ndarray:
+        """int_e B^T sigma dV for every element, ``(nel, nbf)`` (the first term of Eq. 4.37)."""
+        T = np.zeros(stress.shape[:2] + (self.dim, self.dim))
+        for comp, i, k, weight in self.table:  # B^T sigma = sum_k dN_a/dx_k T_ik
+            T[..., i, k] += weight * stress[..., comp]
+        T *= self.dx[..., None, None]
+        f = np.einsum("eqak,eqik->eai", self.grad_N, T, optimize=True)
+        if self.bbar:
+            p_dx = stress[..., :3].sum(axis=-1) * self.dx / 3.0  # tr(sigma)/3 dV
+            f += (np.einsum("eak,e->eak", self.mean_grad_N, p_dx.sum(axis=1))
+                  - np.einsum("eqak,eq->eak", self.grad_N, p_dx))
+        return f.reshape(self.nel, -1)

@@ -1,0 +1,95 @@
+"""Results written as a run goes: curves (CSV), fields (VTU time series + ParaView .pvd), checkpoints (.npz).
+
+Field output per step: the displacement at the nodes, and per element the quadrature-point averages of the
+stress tensor components (MPa), the von Mises stress and every scalar or vector state variable of the material.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+
+from ..io import CurveWriter, VtuSeries
+
+SQRT2 = np.sqrt(2.0)
+_MESHIO_TYPE = {"MeshQuad1": "quad", "MeshTri1": "triangle", "MeshHex1": "hexahedron", "MeshTet1": "tetra"}
+_TENSOR_NAMES = ("xx", "yy", "zz", "yz", "xz", "xy")
+
+
+def meshio_cells(mesh):
+    """``[(cell_type, connectivity)]`` of a linear scikit-fem mesh in VTK node order."""
+    name = type(mesh).__name__
+    if name not in _MESHIO_TYPE:
+        raise TypeError(f"field output supports {tuple(_MESHIO_TYPE)}, got {name}")
+    t = mesh.t
+    if name == "MeshHex1":
+        from skfem.io.meshio import HEX_MAPPING
+
+        t = t[HEX_MAPPING[:8]]
+    return [(_MESHIO_TYPE[name], t.T)]
+
+
+def cell_fields(stress: np.ndarray, state: dict) -> dict:
+    """Element averages of the Mandel stress (as tensor components), von Mises stress and state variables."""
+    mean = stress.mean(axis=1)
+    fields = {f"stress_{n}": mean[:, i] / (SQRT2 if i > 2 else 1.0) for i, n in enumerate(_TENSOR_NAMES)}
+    dev = mean - (mean[:, :3].sum(axis=1) / 3.0)[:, None] * np.array([1, 1, 1, 0, 0, 0])
+    fields["von_mises"] = np.sqrt(1.5 * np.sum(dev**2, axis=1))
+    nel, nqp = stress.shape[:2]
+    for name, value in state.items():
+        value = np.asarray(value)
+        if value.shape[:2] == (nel, nqp) and value.ndim <= 3:
+            fields[name] = value.mean(axis=1)
+        elif value.shape[:1] == (nel,) and value.ndim <= 2:
+            fields[name] = value
+    return fields
+
+
+def save_checkpoint(path, u, state, load_factor: float, time: float) -> Path:
+    """Write the last converged state so a run can be inspected or restarted (:func:`load_checkpoint`)."""
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    arrays = {f"state__{k}": np.asarray(v) for k, v in state.items()}
+    tmp = path.with_name(path.name + ".tmp.npz")
+    np.savez(tmp, u=u, load_factor=load_factor, time=time, **arrays)
+    tmp.replace(path)
+    return path
+
+
+def load_checkpoint(path) -> dict:
+    """``{"u", "state", "load_factor", "time"}`` from :func:`save_checkpoint`."""
+    with np.load(path) as data:
+        state = {k.removeprefix("state__"): data[k] for k in data.files if k.startswith("state__")}
+        return {"u": data["u"], "state": state, "load_factor": float(data["load_factor"]),
+                "time": float(data["time"])}
+
+
+class RunWriter:
+    """Curves CSV (one row per converged step), VTU series every ``vtu_every`` steps, checkpoint on demand."""
+
+    def __init__(self, directory, mesh, curve_columns, vtu_every: int = 1):
+        self.directory = Path(directory)
+        self.directory.mkdir(parents=True, exist_ok=True)
+        self.mesh = mesh
+        self.curves = CurveWriter(self.directory / "curves.csv", curve_columns)
+        self.vtu = VtuSeries(self.directory / "fields", stem="step") if vtu_every else None
+        self.vtu_every = vtu_every
+        self._cells = meshio_cells(mesh) if vtu_every else None
+        self._points = np.vstack([mesh.p, np.zeros((3 - mesh.dim(), mesh.p.shape[1]))]).T
+        self._count = 0
+
+    def write_step(self, row: dict, time: float, u: np.ndarray, nodal_dofs: np.ndarray, stress, state) -> None:
+        self.curves.write(**row)
+        if self.vtu is not None and self._count % self.vtu_every == 0:
+            disp = np.zeros((self.mesh.p.shape[1], 3))
+            disp[:, : nodal_dofs.shape[0]] = u[nodal_dofs].T
+            self.vtu.write(time, self._points, self._cells, point_data={"displacement": disp},
+                           cell_data={k: [v] for k, v in cell_fields(stress, state).items()})
+        self._count += 1
+
+    def checkpoint(self, u, state, load_factor: float, time: float) -> Path:
+        return save_checkpoint(self.directory / "last_converged.npz", u, state, load_factor, time)
+
+    def close(self) -> None:
+        self.curves.close()

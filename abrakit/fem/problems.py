@@ -1,0 +1,140 @@
+"""Ready-made boundary value problems used by the tests, the benchmark, the demo and the book.
+
+- :func:`plate_with_hole_problem` — quarter plate with a hole pulled at the top edge (Ch. 7.1.1 set-up).
+- :func:`thick_cylinder_problem` and :func:`thick_cylinder_solution` — internal pressure on a thick cylinder in
+  plane strain, with the classical elastic–perfectly-plastic solution (Hill 1950) for verification.
+- :func:`kirsch_displacement` and :func:`kirsch_stress` — elastic plate with a circular hole under remote
+  uniaxial tension (Kirsch 1898), plane strain.
+
+Units: N, mm, MPa. Plane-strain forces are per mm of thickness.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from scipy.optimize import brentq
+
+from ..materials import TABLE_7_1
+from ..validation import check_positive, check_range
+from . import meshes
+from .boundary import Dirichlet, surface_load
+from .kinematics import vector_basis
+from .solver import Solver
+
+#: The plasticity part of Table 7.1 (E, nu, r_p, K_H in MPa), for ``VonMisesPlasticity(**TABLE_7_1_PLASTICITY)``.
+TABLE_7_1_PLASTICITY = {k: TABLE_7_1[k] for k in ("E", "nu", "r_p", "K_H")}
+
+
+def plate_with_hole_problem(material, *, width=50.0, height=50.0, radius=10.0, displacement=0.05, n_angular=16,
+                            n_radial=12, grading=4.0, thickness: float | None = None, **solver_options) -> Solver:
+    """Quarter plate with a hole, symmetry on ``left``/``bottom``, top edge pulled by ``displacement`` (mm).
+
+    ``thickness=None`` gives plane strain (forces per mm); a number extrudes the mesh into one layer of hexes
+    of that thickness (the seed's 3 mm, one element) with ``front`` held in z. The reaction of the top edge is
+    recorded as ``F_top`` and its displacement as ``u_top``.
+    """
+    mesh = meshes.plate_with_hole(width, height, radius, n_angular, n_radial, grading)
+    if thickness is not None:
+        mesh = meshes.extrude(mesh, thickness, 1)
+    basis = vector_basis(mesh)
+    conditions = [Dirichlet.on(basis, "left", "x"), Dirichlet.on(basis, "bottom", "y")]
+    if thickness is not None:
+        conditions.append(Dirichlet.on(basis, "front", "z"))
+    conditions.append(Dirichlet.on(basis, "top", "y", displacement, name="top"))
+    return Solver(basis, material, conditions, **solver_options)
+
+
+def thick_cylinder_problem(material, *, inner=10.0, outer=20.0, pressure=100.0, n_radial=12, n_angular=12,
+                           bbar=True, **solver_options) -> Solver:
+    """Quarter of a thick cylinder (plane strain) under internal ``pressure`` (MPa) at load factor 1.
+
+    The radial displacement of the outer surface on the x axis is recorded as ``u_outer`` (mm). B-bar is on
+    by default: fully plastic flow is isochoric and the standard bilinear quadrilateral locks.
+    """
+    mesh = meshes.ring_sector(inner, outer, n_radial, n_angular)
+    basis = vector_basis(mesh)
+    load = surface_load(basis, "inner", pressure=pressure)
+    outer_x = np.intersect1d(Dirichlet.on(basis, "outer", "x").dofs, Dirichlet.on(basis, "bottom", "x").dofs)
+    conditions = [Dirichlet.on(basis, "bottom", "y"), Dirichlet.on(basis, "side", "x")]
+    return Solver(basis, material, conditions, external_force=lambda lam: lam * load, bbar=bbar,
+                  monitors={"outer": outer_x}, **solver_options)
+
+
+@dataclass(frozen=True)
+class ThickCylinderSolution:
+    """Elastic–perfectly-plastic thick cylinder, plane strain, von Mises with shear yield k = sigma_0 / sqrt(3).
+
+    Hill's solution: the plastic zone a <= r <= c carries p = k (1 - c^2/b^2 + 2 ln(c/a)); the elastic zone
+    c <= r <= b is a cylinder loaded at r = c by k (1 - c^2/b^2). Exact for an incompressible solid
+    (nu -> 1/2), where sigma_z is the mean of sigma_r and sigma_theta; for nu < 1/2 the onset of yield differs
+    by a term of relative size (1 - 2 nu)^2 (c/b)^4 / 3.
+    """
+
+    inner: float
+    outer: float
+    E: float
+    nu: float
+    yield_stress: float  # uniaxial sigma_0 (MPa); for the seed's model sigma_0 = sqrt(3/2) r_p
+
+    @property
+    def k(self) -> float:
+        return self.yield_stress / np.sqrt(3.0)
+
+    @property
+    def yield_pressure(self) -> float:
+        """First yield at the bore, p_e = k (1 - a^2/b^2) (MPa)."""
+        return self.k * (1.0 - (self.inner / self.outer) ** 2)
+
+    @property
+    def limit_pressure(self) -> float:
+        """Collapse pressure p_L = (2/sqrt(3)) sigma_0 ln(b/a) (MPa)."""
+        return 2.0 * self.k * np.log(self.outer / self.inner)
+
+    def plastic_radius(self, pressure: float) -> float:
+        """Radius c of the elastic–plastic boundary at the given pressure (mm)."""
+        a, b = self.inner, self.outer
+        pressure = check_range("pressure", pressure, 0.0, self.limit_pressure)
+        if pressure <= self.yield_pressure:
+            return a
+        return brentq(lambda c: self.k * (1 - c**2 / b**2 + 2 * np.log(c / a)) - pressure, a, b, xtol=1e-14)
+
+    def outer_displacement(self, pressure: float) -> float:
+        """Radial displacement of the outer surface (mm): elastic Lamé solution of the zone c <= r <= b."""
+        a, b, E, nu = self.inner, self.outer, self.E, self.nu
+        if pressure <= self.yield_pressure:
+            return 2 * (1 - nu**2) * pressure * a**2 * b / (E * (b**2 - a**2))
+        c = self.plastic_radius(pressure)
+        return 2 * (1 - nu**2) * self.k * c**2 / (E * b)
+
+
+def thick_cylinder_solution(inner, outer, E, nu, yield_stress) -> ThickCylinderSolution:
+    check_positive("inner", inner)
+    check_range("outer", outer, inner, None, low_open=True)
+    return ThickCylinderSolution(inner, outer, check_positive("E", E), nu, check_positive("yield_stress", yield_stress))
+
+
+def kirsch_displacement(x, y, *, remote_stress, radius, E, nu):
+    """Plane-strain displacement (mm) of an infinite plate with a hole of ``radius`` under remote sigma_xx."""
+    mu, kappa = E / (2 * (1 + nu)), 3 - 4 * nu
+    r, th = np.hypot(x, y), np.arctan2(y, x)
+    s, a = remote_stress / (4 * mu), radius
+    c2 = np.cos(2 * th)
+    u_r = s * (r * ((kappa - 1) / 2 + c2) + a**2 / r * (1 + (1 + kappa) * c2) - a**4 / r**3 * c2)
+    u_t = s * ((1 - kappa) * a**2 / r - r - a**4 / r**3) * np.sin(2 * th)
+    return u_r * np.cos(th) - u_t * np.sin(th), u_r * np.sin(th) + u_t * np.cos(th)
+
+
+def kirsch_stress(x, y, *, remote_stress, radius):
+    """Kirsch stresses (sigma_xx, sigma_yy, sigma_xy) in MPa; sigma_xx = 3 sigma at (0, radius)."""
+    r, th = np.hypot(x, y), np.arctan2(y, x)
+    s, q2, q4 = remote_stress / 2, (radius / r) ** 2, (radius / r) ** 4
+    c2, s2 = np.cos(2 * th), np.sin(2 * th)
+    s_rr = s * (1 - q2) + s * (1 - 4 * q2 + 3 * q4) * c2
+    s_tt = s * (1 + q2) - s * (1 + 3 * q4) * c2
+    s_rt = -s * (1 + 2 * q2 - 3 * q4) * s2
+    c, sn = np.cos(th), np.sin(th)
+    return (s_rr * c * c + s_tt * sn * sn - 2 * s_rt * sn * c,
+            s_rr * sn * sn + s_tt * c * c + 2 * s_rt * sn * c,
+            (s_rr - s_tt) * sn * c + s_rt * (c * c - sn * sn))

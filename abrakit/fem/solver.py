@@ -1,0 +1,392 @@
+"""Quasi-static Newton–Raphson solver with automatic load stepping, Eq. (4.37)–(4.41).
+
+In every load step lambda_m -> lambda_{m+1} = lambda_m + dlambda the residual
+
+    R(u) = f_int(u) - f_ext(lambda) + R_extra(u)              (Eq. 4.37, plus optional hook terms)
+
+is driven to zero on the free DOFs by Newton iterations u <- u + du, K_II du_I = -R_I (Eq. 4.38–4.41), where the
+stresses and the algorithmic tangent come from ``material.update(state_m, eps(u), dt, **loading)`` evaluated from
+the *last converged* state, so a rejected step is retried from it unchanged.
+
+A step converges when both ||R_I||_inf <= residual_tol * F_ref and ||du||_inf <= increment_tol * ||u - u_m||_inf
+(the increment test is waived once ||R_I||_inf <= exact_tol * F_ref; F_ref is the largest internal, external or
+hook force). A step that diverges (non-finite values, residual growth after ``divergence_check_after``
+iterations, too many iterations, singular tangent) is retried with dlambda * cutback; after
+``easy_steps`` consecutive steps needing at most ``easy_iterations`` iterations dlambda grows by ``growth``
+(the defaults follow Abaqus/Standard's time incrementation). If dlambda falls below ``minimum``, :class:`StepFailed`
+is raised with the last converged state (also saved to ``<output>/last_converged.npz``).
+
+Hooks for later models: ``loading(ctx) -> dict`` supplies extra keyword arguments to ``material.update`` (e.g. the
+external power for a rate limit), and every ``extra_terms`` item ``term(u, ctx) -> (R_extra, K_extra)`` adds a
+residual vector and a sparse tangent (either may be ``None``), e.g. penalty contact.
+"""
+
+from __future__ import annotations
+
+import time as _time
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass, field, replace
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import scipy.sparse as sp
+
+from ..materials.base import Material
+from ..validation import check_positive, check_range
+from .assembly import Assembler
+from .boundary import Constraints, Dirichlet
+from .kinematics import Kinematics
+from .linsolve import LinearSolveError, make_linear_solver, rigid_body_modes
+from .output import RunWriter
+
+
+@dataclass(frozen=True)
+class StepControl:
+    """Load-factor incrementation. Defaults after Abaqus/Standard: cut back by 1/4 on divergence, grow by 1.5
+    after two consecutive increments converging within 4 iterations, minimum 1e-5 of the load path."""
+
+    initial: float = 0.1
+    minimum: float = 1e-5
+    maximum: float = 0.1
+    cutback: float = 0.25
+    growth: float = 1.5
+    easy_iterations: int = 4
+    easy_steps: int = 2
+    extrapolate: bool = True
+
+    def __post_init__(self):
+        check_range("minimum", self.minimum, 0.0, None, low_open=True)
+        check_range("maximum", self.maximum, self.minimum, None)
+        check_range("initial", self.initial, self.minimum, self.maximum)
+        check_range("cutback", self.cutback, 0.0, 1.0, low_open=True, high_open=True)
+        check_range("growth", self.growth, 1.0, None)
+
+
+@dataclass(frozen=True)
+class NewtonOptions:
+    """Convergence test on the residual and on the correction (see module docstring)."""
+
+    residual_tol: float = 1e-6
+    increment_tol: float = 1e-4
+    exact_tol: float = 1e-10
+    absolute_force: float = 1e-12
+    max_iterations: int = 12
+    divergence_check_after: int = 4
+    stabilization: float = 1e-9   # floor of the tangent diagonal, relative to its largest entry
+
+    def __post_init__(self):
+        for name in ("residual_tol", "increment_tol", "exact_tol", "absolute_force"):
+            check_positive(name, getattr(self, name))
+        check_range("max_iterations", self.max_iterations, 1, None)
+        check_positive("stabilization", self.stabilization, allow_zero=True)
+
+
+@dataclass(frozen=True)
+class StepContext:
+    """What the hooks see: the step being attempted and the current Newton iterate."""
+
+    step: int
+    load_factor: float
+    delta: float
+    time: float
+    dt: float
+    iteration: int
+    u: np.ndarray
+    u_old: np.ndarray
+    state_old: dict
+    f_int_old: np.ndarray
+
+
+@dataclass
+class NewtonResult:
+    u: np.ndarray
+    response: Any
+    f_int: np.ndarray
+    iterations: int
+    residuals: list[float]
+
+
+class NewtonFailure(RuntimeError):
+    def __init__(self, reason: str, residuals: Sequence[float]):
+        super().__init__(reason)
+        self.reason = reason
+        self.residuals = list(residuals)
+
+
+@dataclass
+class SolveResult:
+    """History of a run: one entry per converged step (index 0 is the start state)."""
+
+    load_factors: np.ndarray
+    times: np.ndarray
+    iterations: np.ndarray
+    curves: dict[str, np.ndarray]
+    u: np.ndarray
+    state: dict
+    response: Any
+    f_int: np.ndarray
+    residual_histories: list[list[float]]
+    cutbacks: int
+    wall_time: float
+    output: Path | None = None
+
+
+class StepFailed(RuntimeError):
+    """The load step could not be completed with dlambda >= minimum. Holds the last converged state."""
+
+    def __init__(self, message: str, *, load_factor: float, u, state, reason: str, result: SolveResult,
+                 checkpoint: Path | None):
+        super().__init__(message)
+        self.load_factor = load_factor
+        self.u = u
+        self.state = state
+        self.reason = reason
+        self.result = result
+        self.checkpoint = checkpoint
+
+
+@dataclass
+class _History:
+    load_factors: list = field(default_factory=list)
+    times: list = field(default_factory=list)
+    iterations: list = field(default_factory=list)
+    residuals: list = field(default_factory=list)
+    rows: list = field(default_factory=list)
+
+
+class Solver:
+    """Quasi-static nonlinear FE problem: kinematics + material + boundary conditions + hooks.
+
+    Parameters
+    ----------
+    basis : scikit-fem vector ``CellBasis`` or :class:`Kinematics`.
+    material : object with ``initial_state(shape)`` and ``update(state, eps, dt, **loading)`` (Mandel).
+    dirichlet : prescribed displacements as functions of the load factor (:class:`Dirichlet`).
+    external_force : ``f_ext(load_factor) -> (ndof,)`` (N), e.g. ``lambda lam: lam * surface_load(...)``.
+    loading : ``loading(ctx: StepContext) -> dict`` of extra keyword arguments to ``material.update``.
+    extra_terms : callables ``term(u, ctx) -> (R_extra | None, K_extra | None)`` added to residual and tangent.
+    monitors : ``{name: dofs}`` whose summed reaction/internal force and mean displacement are recorded
+        (every named :class:`Dirichlet` is monitored automatically).
+    linear_solver : ``"auto"``, ``"direct"``, ``"amg"``, an object with ``solve(K, rhs, new_step)`` or
+        a callable ``f(K, rhs)``.
+    duration : time (s) of the whole load path (load factor 0 -> 1); ``dt = dlambda * duration``.
+    bbar : use the B-bar operator (against volumetric locking) when ``basis`` is a scikit-fem basis.
+    """
+
+    def __init__(self, basis, material: Material, dirichlet: Sequence[Dirichlet] = (), *,
+                 external_force: Callable[[float], np.ndarray] | None = None,
+                 loading: Callable[[StepContext], dict] | None = None,
+                 extra_terms: Sequence[Callable] = (),
+                 monitors: dict[str, np.ndarray] | None = None,
+                 control: StepControl | None = None, newton: NewtonOptions | None = None,
+                 linear_solver="auto", duration: float = 1.0, bbar: bool = False):
+        self.kin = basis if isinstance(basis, Kinematics) else Kinematics.from_basis(basis, bbar=bbar)
+        self.assembler = Assembler(self.kin)
+        self.material = material
+        self.constraints = Constraints(dirichlet, self.kin.ndof)
+        self.constraints.condense_pattern(self.assembler.indptr, self.assembler.indices)
+        self.external_force = external_force
+        self.loading = loading
+        self.extra_terms = list(extra_terms)
+        self.control = control or StepControl()
+        self.newton_options = newton or NewtonOptions()
+        self.duration = check_positive("duration", duration)
+        self.monitors = {c.name: c.dofs for c in self.constraints.conditions if c.name}
+        self.monitors.update({k: np.asarray(v, dtype=np.int64) for k, v in (monitors or {}).items()})
+        basis_ = self.kin.basis
+        free = self.constraints.free
+        null_space = None
+        if hasattr(basis_, "doflocs"):
+            component = np.zeros(self.kin.ndof, dtype=int)
+            component[self.kin.element_dofs] = np.arange(self.kin.nbf) % self.kin.dim
+            null_space = rigid_body_modes(basis_.doflocs[:, free], component[free])
+        self.linear_solver = make_linear_solver(linear_solver, self.kin.dim, free.size, null_space)
+
+    # ---- one evaluation of Eq. (4.37) -------------------------------------------------------------------------
+    def evaluate(self, u, state_old, ctx: StepContext):
+        """Material update at all quadrature points and the residual of Eq. (4.37) with the hook terms.
+
+        Returns ``(response, R, f_int, F_ref, K_extra_list)``; ``F_ref`` is the largest nodal force (N).
+        """
+        kwargs = self.loading(ctx) if self.loading is not None else {}
+        eps = self.kin.strain(u)
+        with np.errstate(all="ignore"):
+            response = self.material.update(state_old, eps, ctx.dt, **kwargs)
+            f_int = self.assembler.internal_force(response.stress)
+        residual = f_int.copy()
+        scale = np.max(np.abs(f_int), initial=0.0)
+        if self.external_force is not None:
+            f_ext = np.asarray(self.external_force(ctx.load_factor), dtype=float)
+            residual -= f_ext
+            scale = max(scale, np.max(np.abs(f_ext), initial=0.0))
+        extra_K = []
+        for term in self.extra_terms:
+            r_extra, K_extra = term(u, ctx)
+            if r_extra is not None:
+                residual += r_extra
+                scale = max(scale, np.max(np.abs(r_extra), initial=0.0))
+            if K_extra is not None:
+                extra_K.append(K_extra)
+        return response, residual, f_int, scale, extra_K
+
+    def _correction(self, response, extra_K, residual, new_step: bool) -> np.ndarray:
+        cons = self.constraints
+        data = self.assembler.tangent_data(response.tangent)
+        if extra_K:
+            K = self.assembler.matrix(data) + sum(extra_K)
+            K_II = cons.condense(sp.csr_matrix(K), same_pattern=False)
+            diag_pos = None
+        else:
+            K_II = cons.condense(self.assembler.matrix(data))
+            diag_pos = cons.diagonal_positions
+        if not np.all(np.isfinite(K_II.data)):
+            raise LinearSolveError("non-finite tangent")
+        # a region without stiffness (e.g. fully damaged) must not make K_II singular: floor its diagonal
+        floor = self.newton_options.stabilization * np.max(np.abs(K_II.diagonal()), initial=0.0)
+        if floor > 0:
+            if diag_pos is None:
+                d = K_II.diagonal()
+                K_II = K_II + sp.diags(np.where(np.abs(d) < floor, floor, 0.0))
+            else:
+                K_II = K_II.copy()
+                d = K_II.data[diag_pos]
+                K_II.data[diag_pos] = np.where(np.abs(d) < floor, floor, d)
+        rhs = -residual[cons.free]
+        if hasattr(self.linear_solver, "solve"):
+            return self.linear_solver.solve(K_II, rhs, new_step=new_step)
+        return np.asarray(self.linear_solver(K_II, rhs))
+
+    # ---- Newton iterations, Eq. (4.38)–(4.41) ----------------------------------------------------------------
+    def newton(self, u_trial, state_old, ctx: StepContext) -> NewtonResult:
+        """Iterate from ``u_trial`` (prescribed DOFs already at their new values) until converged."""
+        opts = self.newton_options
+        free = self.constraints.free
+        u = np.array(u_trial, dtype=float)
+        residuals: list[float] = []
+        increment = np.inf
+        for k in range(opts.max_iterations + 1):
+            ctx_k = replace(ctx, iteration=k, u=u)
+            try:
+                response, residual, f_int, scale, extra_K = self.evaluate(u, state_old, ctx_k)
+            except (ArithmeticError, np.linalg.LinAlgError) as exc:  # e.g. a local iteration that broke down
+                raise NewtonFailure(f"material update failed: {exc}", residuals) from exc
+            r_free = residual[free]
+            norm = np.max(np.abs(r_free), initial=0.0)
+            if not (np.isfinite(norm) and np.all(np.isfinite(response.stress))):
+                raise NewtonFailure("non-finite residual or stress", residuals)
+            residuals.append(float(norm))
+            tol = opts.residual_tol * scale + opts.absolute_force
+            step_size = np.max(np.abs((u - ctx.u_old)[free]), initial=0.0)
+            small_correction = increment <= opts.increment_tol * step_size + 1e-300
+            if norm <= tol and (k == 0 or small_correction or norm <= opts.exact_tol * scale + opts.absolute_force):
+                return NewtonResult(u, response, f_int, k, residuals)
+            if k == opts.max_iterations:
+                raise NewtonFailure(f"not converged in {k} iterations (residual {norm:.3e} N, tolerance "
+                                    f"{tol:.3e} N)", residuals)
+            if k >= opts.divergence_check_after and min(residuals[:-2]) < min(residuals[-2:]):
+                raise NewtonFailure(f"diverging (residual {norm:.3e} N after {k} iterations)", residuals)
+            try:
+                du = self._correction(response, extra_K, residual, new_step=(k == 0))
+            except LinearSolveError as exc:
+                raise NewtonFailure(str(exc), residuals) from exc
+            u[free] += du
+            increment = np.max(np.abs(du), initial=0.0)
+        raise AssertionError("unreachable")
+
+    # ---- load stepping --------------------------------------------------------------------------------------
+    def run(self, *, end: float = 1.0, start: float = 0.0, u0: np.ndarray | None = None,
+            state0: dict | None = None, output: str | Path | None = None, vtu_every: int = 1,
+            progress: bool = True, on_step: Callable[[SolveResult], None] | None = None) -> SolveResult:
+        """Follow the load path from ``start`` to ``end`` (load factors); returns the converged history.
+
+        ``output``: directory for ``curves.csv``, ``fields/step.pvd`` (+ ``.vtu``) and, on failure,
+        ``last_converged.npz``; ``vtu_every=0`` disables field output. ``on_step`` is called after every
+        converged step with the (partial) result.
+        """
+        from tqdm import tqdm
+
+        check_range("end", end, start, None, low_open=True)
+        ctrl, kin, cons = self.control, self.kin, self.constraints
+        t0 = _time.perf_counter()
+        state = state0 if state0 is not None else self.material.initial_state((kin.nel, kin.nqp))
+        u = cons.apply(np.zeros(kin.ndof) if u0 is None else u0, start)
+        ctx0 = StepContext(0, start, 0.0, start * self.duration, 0.0, 0, u, u, state, np.zeros(kin.ndof))
+        response, _, f_int, _, _ = self.evaluate(u, state, ctx0)  # the start state, for the record only
+        hist = _History()
+        columns = ["step", "load_factor", "time", "iterations"] + [
+            f"{kind}_{name}" for name in self.monitors for kind in ("u", "F")]
+        writer = RunWriter(output, kin.basis.mesh, columns, vtu_every) if output is not None else None
+        nodal = np.asarray(kin.basis.nodal_dofs)
+
+        def record(step, lam, iterations, residuals):
+            row = {"step": step, "load_factor": lam, "time": lam * self.duration, "iterations": iterations}
+            for name, dofs in self.monitors.items():
+                row[f"u_{name}"] = float(np.mean(u[dofs])) if dofs.size else 0.0
+                row[f"F_{name}"] = float(np.sum(f_int[dofs]))
+            hist.load_factors.append(lam)
+            hist.times.append(lam * self.duration)
+            hist.iterations.append(iterations)
+            hist.residuals.append(residuals)
+            hist.rows.append(row)
+            if writer is not None:
+                writer.write_step(row, lam * self.duration, u, nodal, response.stress, state)
+
+        def result():
+            curves = {k: np.array([r[k] for r in hist.rows]) for k in columns}
+            return SolveResult(np.array(hist.load_factors), np.array(hist.times), np.array(hist.iterations),
+                               curves, u, state, response, f_int, hist.residuals, cutbacks,
+                               _time.perf_counter() - t0, Path(output) if output is not None else None)
+
+        record(0, start, 0, [])
+        lam, delta, easy, cutbacks, step = start, min(ctrl.initial, end - start), 0, 0, 0
+        u_prev, delta_prev = None, None
+        bar = tqdm(total=end - start, disable=not progress, unit="λ", bar_format="{l_bar}{bar}| λ={n:.4f}/{total}")
+        try:
+            while lam < end - 1e-12 * max(1.0, abs(end)):
+                delta = min(delta, end - lam)
+                lam_new = lam + delta
+                u_trial = cons.apply(u, lam_new)
+                if ctrl.extrapolate and u_prev is not None:
+                    free = cons.free
+                    u_trial[free] += (delta / delta_prev) * (u - u_prev)[free]
+                ctx = StepContext(step + 1, lam_new, delta, lam_new * self.duration, delta * self.duration, 0,
+                                  u_trial, u, state, f_int)
+                try:
+                    res = self.newton(u_trial, state, ctx)
+                except NewtonFailure as failure:
+                    cutbacks += 1
+                    easy = 0
+                    delta *= ctrl.cutback
+                    if delta < ctrl.minimum * (1 - 1e-12):
+                        checkpoint = writer.checkpoint(u, state, lam, lam * self.duration) if writer else None
+                        where = f"; saved to {checkpoint}" if checkpoint else ""
+                        raise StepFailed(
+                            f"load step from λ={lam:.6g} failed: {failure.reason}; the step size was cut back to "
+                            f"{delta:.3g} < minimum {ctrl.minimum:.3g}. Last converged state: λ={lam:.6g}"
+                            f"{where}. (Is the load beyond the limit load, or has the structure lost stiffness?)",
+                            load_factor=lam, u=u, state=state, reason=failure.reason, result=result(),
+                            checkpoint=checkpoint) from failure
+                    continue
+                u_prev, delta_prev = u, delta
+                u, response, f_int, state = res.u, res.response, res.f_int, res.response.state
+                lam, step = lam_new, step + 1
+                record(step, lam, res.iterations, res.residuals)
+                bar.update(delta)
+                if on_step is not None:
+                    on_step(result())
+                easy = easy + 1 if res.iterations <= ctrl.easy_iterations else 0
+                if easy >= ctrl.easy_steps:
+                    delta, easy = min(delta * ctrl.growth, ctrl.maximum), 0
+        finally:
+            bar.close()
+            if writer is not None:
+                writer.close()
+        return result()
+
+
+def solve(basis, material: Material, dirichlet: Sequence[Dirichlet] = (), *, end: float = 1.0,
+          output=None, progress: bool = True, vtu_every: int = 1, **options) -> SolveResult:
+    """One-call form: ``Solver(basis, material, dirichlet, **options).run(end=..., output=...)``."""
+    return Solver(basis, material, dirichlet, **options).run(end=end, output=output, progress=progress,
+                                                             vtu_every=vtu_every)

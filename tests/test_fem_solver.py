@@ -1,0 +1,331 @@
+"""Newton solver and load stepping of abrakit.fem: convergence, cutback, hard cases, hooks, output."""
+
+from dataclasses import dataclass
+
+import meshio
+import numpy as np
+import pytest
+import scipy.sparse as sp
+import skfem
+
+from abrakit.fem import (
+    Dirichlet,
+    NewtonOptions,
+    Solver,
+    StepControl,
+    StepFailed,
+    boundary_dofs,
+    load_checkpoint,
+    meshes,
+    vector_basis,
+)
+from abrakit.fem.problems import plate_with_hole_problem, thick_cylinder_problem, thick_cylinder_solution
+from abrakit.io import read_curve
+from abrakit.materials import LinearElastic, MaterialResponse, VonMisesPlasticity
+
+E, NU, R_P = 70000.0, 0.3, 200.0
+
+
+def strip(nx=8, ny=4, length=4.0, height=2.0):
+    mesh = skfem.MeshQuad.init_tensor(np.linspace(0, length, nx + 1), np.linspace(0, height, ny + 1))
+    return mesh.with_boundaries({"left": lambda x: x[0] < 1e-9, "right": lambda x: x[0] > length - 1e-9,
+                                 "bottom": lambda x: x[1] < 1e-9, "top": lambda x: x[1] > height - 1e-9})
+
+
+def tension_bcs(basis, u=0.01):
+    return [Dirichlet.on(basis, "left", "x"), Dirichlet.on(basis, "bottom", "y"),
+            Dirichlet.on(basis, "right", "x", u, name="right")]
+
+
+# ---- stand-in materials for the hard cases ----------------------------------------------------------------------
+@dataclass(frozen=True)
+class FragileElastic:
+    """Linear elastic, but the update 'fails' (NaN stress) when a strain increment exceeds ``max_increment``,
+    like a return map that does not converge for too large a step."""
+
+    elastic: LinearElastic
+    max_increment: float
+
+    def initial_state(self, shape):
+        return self.elastic.initial_state(shape)
+
+    def update(self, state, eps, dt=1.0, **loading):
+        response = self.elastic.update(state, eps, dt)
+        if np.abs(eps - state["eps"]).max() > self.max_increment:
+            return MaterialResponse(np.full_like(response.stress, np.nan), response.tangent, response.state)
+        return response
+
+
+@dataclass(frozen=True)
+class DamagedElastic:
+    """Elastic with a fixed stiffness factor per element, ``factor`` (nel,); 0 means fully damaged."""
+
+    elastic: LinearElastic
+    factor: np.ndarray
+
+    def initial_state(self, shape):
+        return self.elastic.initial_state(shape)
+
+    def update(self, state, eps, dt=1.0, scale=1.0, **loading):
+        r = self.elastic.update(state, eps, dt)
+        f = scale * self.factor[:, None]
+        return MaterialResponse(f[..., None] * r.stress, f[..., None, None] * r.tangent, r.state)
+
+
+@dataclass(frozen=True)
+class ElasticTangent:
+    """Wraps a material and returns the elastic stiffness as tangent (an inconsistent linearisation)."""
+
+    material: VonMisesPlasticity
+
+    def initial_state(self, shape):
+        return self.material.initial_state(shape)
+
+    def update(self, state, eps, dt=1.0, **loading):
+        r = self.material.update(state, eps, dt)
+        return MaterialResponse(r.stress, np.broadcast_to(self.material.stiffness, r.tangent.shape), r.state)
+
+
+# ---- Newton ----------------------------------------------------------------------------------------------------
+def convergence_orders(residuals, floor):
+    """Estimated orders log(r_k+1/r_k) / log(r_k/r_k-1) over the iterates above round-off."""
+    r = np.asarray([x for x in residuals if x > floor])
+    return np.log(r[2:] / r[1:-1]) / np.log(r[1:-1] / r[:-2])
+
+
+def test_newton_converges_quadratically_with_the_consistent_tangent():
+    """Plastic steps of the thick cylinder: the consistent tangent of the implicit return map gives order 2;
+    the elastic stiffness as tangent converges linearly (the test can tell them apart)."""
+    material = VonMisesPlasticity(E, NU, R_P, 5000.0, integration="implicit")
+    solution = thick_cylinder_solution(10.0, 20.0, E, NU, np.sqrt(1.5) * R_P)
+    options = dict(pressure=solution.limit_pressure, n_radial=8, n_angular=8,
+                   control=StepControl(initial=0.3, maximum=0.3, extrapolate=False))
+    tight = NewtonOptions(residual_tol=1e-12, exact_tol=1e-13)
+    result = thick_cylinder_problem(material, newton=tight, **options).run(end=1.2, progress=False)
+    floor = 1e-9 * result.residual_histories[1][0]
+    orders = [convergence_orders(h, floor) for h in result.residual_histories[3:]]  # the plastic steps
+    assert all(o.size and o[-1] > 1.7 for o in orders), orders
+
+    loose = NewtonOptions(max_iterations=200)
+    fast = thick_cylinder_problem(material, newton=loose, **options).run(end=1.2, progress=False)
+    slow = thick_cylinder_problem(ElasticTangent(material), newton=loose, **options).run(end=1.2, progress=False)
+    assert slow.iterations[3:].min() > 2 * fast.iterations[3:].max()
+    assert np.allclose(slow.u, fast.u, rtol=0, atol=1e-4 * np.abs(fast.u).max())  # same solution
+
+
+def test_linear_problem_converges_in_one_iteration_and_extrapolation_is_exact():
+    basis = vector_basis(strip())
+    result = Solver(basis, LinearElastic(E, NU), tension_bcs(basis)).run(progress=False)
+    assert result.iterations[1] == 1 and result.iterations[2:].max() == 0  # later steps: linear extrapolation
+    assert result.curves["F_right"] == pytest.approx(E / (1 - NU**2) * 0.01 / 4.0 * 2.0 * result.load_factors,
+                                                     rel=1e-10, abs=1e-9)  # plane strain, free sides: E' eps A
+
+
+# ---- load stepping: cutback, growth, failure ---------------------------------------------------------------------
+def test_failed_step_is_cut_back_and_recovers():
+    basis = vector_basis(strip())
+    # the first iterate strains the last element column by 0.01 * dlambda / 0.5: steps > 0.3 of the load fail
+    material = FragileElastic(LinearElastic(E, NU), max_increment=0.006)
+    solver = Solver(basis, material, tension_bcs(basis),
+                    control=StepControl(initial=1.0, maximum=1.0, extrapolate=False))
+    result = solver.run(progress=False)
+    assert result.cutbacks >= 1 and result.load_factors[-1] == pytest.approx(1.0)
+    assert np.diff(result.load_factors)[0] == pytest.approx(0.25)   # 1 -> 0.25 (Abaqus cut-back factor)
+    assert np.diff(result.load_factors).max() <= 0.3                # every accepted step was a feasible one
+    reference = Solver(basis, LinearElastic(E, NU), tension_bcs(basis)).run(progress=False)
+    assert np.allclose(result.u, reference.u, atol=1e-14)
+    assert np.all(np.isfinite(result.curves["F_right"]))
+
+
+def test_step_growth_after_easy_steps():
+    basis = vector_basis(strip())
+    control = StepControl(initial=0.01, maximum=0.5, extrapolate=False)
+    result = Solver(basis, LinearElastic(E, NU), tension_bcs(basis), control=control).run(progress=False)
+    steps = np.diff(result.load_factors)
+    assert steps[0] == pytest.approx(0.01) and steps.max() > 0.1
+    assert np.all(steps[1:-1] / steps[:-2] <= 1.5 + 1e-9)
+
+
+def test_minimum_step_raises_with_last_good_state_saved(tmp_path):
+    """Beyond the limit load of a perfectly plastic cylinder no step converges: a clear error, state saved."""
+    material = VonMisesPlasticity(E, NU, R_P, 0.0, integration="implicit")
+    solution = thick_cylinder_solution(10.0, 20.0, E, NU, np.sqrt(1.5) * R_P)
+    solver = thick_cylinder_problem(material, pressure=solution.limit_pressure, n_radial=6, n_angular=6,
+                                    control=StepControl(initial=0.1, maximum=0.1, minimum=1e-3))
+    with pytest.raises(StepFailed, match=r"failed: .*minimum.*Last converged state: λ=") as info:
+        solver.run(end=1.5, output=tmp_path, progress=False, vtu_every=0)
+    failure = info.value
+    assert 1.0 <= failure.load_factor <= 1.01  # the collapse load (upper bound on a coarse mesh)
+    saved = load_checkpoint(failure.checkpoint)
+    assert failure.checkpoint == tmp_path / "last_converged.npz"
+    assert saved["load_factor"] == failure.load_factor and np.array_equal(saved["u"], failure.u)
+    assert np.array_equal(saved["state"]["alpha_p"], failure.state["alpha_p"])
+    assert np.all(np.isfinite(failure.u))
+    curve = read_curve(tmp_path / "curves.csv")
+    assert curve["load_factor"][-1] == pytest.approx(failure.load_factor)  # rows were written as the run went
+
+
+def test_restart_from_a_saved_state_continues_the_path():
+    material = VonMisesPlasticity(200000.0, 0.33, 60.0, 8000.0, integration="implicit")
+    control = StepControl(initial=0.1, maximum=0.1, extrapolate=False)
+    solver = plate_with_hole_problem(material, n_angular=6, n_radial=4, control=control)
+    full = solver.run(progress=False)
+    half = solver.run(end=0.5, progress=False)
+    rest = solver.run(start=0.5, u0=half.u, state0=half.state, progress=False)
+    assert rest.load_factors[0] == 0.5 and rest.curves["F_top"][0] == pytest.approx(half.curves["F_top"][-1])
+    assert np.allclose(rest.u, full.u, rtol=0, atol=1e-12)
+    assert np.allclose(rest.state["alpha_p"], full.state["alpha_p"], rtol=0, atol=1e-14)
+
+
+def test_fully_damaged_region_gives_no_nans():
+    """A band of zero-stiffness elements cuts the strip: finite displacements, zero reaction, no NaN."""
+    mesh = strip(nx=10, ny=4, length=5.0)
+    centre = mesh.p[:, mesh.t].mean(axis=1)[0]
+    factor = np.where((centre > 2.0) & (centre < 3.0), 0.0, 1.0)  # two element columns, interior nodes inside
+    basis = vector_basis(mesh)
+    bcs = [Dirichlet.on(basis, "left", "xy"), Dirichlet.on(basis, "right", "y"),
+           Dirichlet.on(basis, "right", "x", 0.01, name="right")]
+    result = Solver(basis, DamagedElastic(LinearElastic(E, NU), factor), bcs).run(progress=False)
+    assert np.all(np.isfinite(result.u)) and np.all(np.isfinite(result.response.stress))
+    assert np.abs(result.curves["F_right"]).max() <= 1e-9
+    assert np.abs(result.u).max() <= 0.01 + 1e-12
+
+
+def test_everything_damaged_stays_finite():
+    basis = vector_basis(strip(nx=4, ny=2))
+    material = DamagedElastic(LinearElastic(E, NU), np.zeros(8))
+    result = Solver(basis, material, tension_bcs(basis)).run(progress=False)
+    assert np.all(np.isfinite(result.u)) and result.curves["F_right"][-1] == 0.0
+
+
+# ---- hooks ----------------------------------------------------------------------------------------------------
+def test_loading_kwargs_reach_the_material():
+    basis = vector_basis(strip())
+    material = DamagedElastic(LinearElastic(E, NU), np.ones(32))
+    seen = []
+
+    def loading(ctx):
+        seen.append((ctx.step, ctx.iteration, ctx.dt))
+        return {"scale": 2.0}
+
+    result = Solver(basis, material, tension_bcs(basis), loading=loading, duration=10.0).run(progress=False)
+    reference = Solver(basis, LinearElastic(E, NU), tension_bcs(basis)).run(progress=False)
+    assert result.curves["F_right"][-1] == pytest.approx(2.0 * reference.curves["F_right"][-1], rel=1e-12)
+    assert seen[-1][0] == len(result.load_factors) - 1 and seen[-1][2] == pytest.approx(1.0)  # dt = 0.1 * 10 s
+
+
+def test_extra_terms_add_residual_and_tangent():
+    """A penalty spring k (u - lambda*g) on the right edge (like penalty contact) approaches the Dirichlet
+    solution as k grows; an extra residual -lambda*f equals the same external force."""
+    basis = vector_basis(strip())
+    right = boundary_dofs(basis, "right", "x")
+    target = 0.01
+    k = 1e12
+
+    def spring(u, ctx):
+        r = np.zeros_like(u)
+        r[right] = k * (u[right] - ctx.load_factor * target)
+        K = sp.csr_matrix((np.full(right.size, k), (right, right)), shape=(u.size, u.size))
+        return r, K
+
+    fixed = [Dirichlet.on(basis, "left", "x"), Dirichlet.on(basis, "bottom", "y")]
+    penalty = Solver(basis, LinearElastic(E, NU), fixed, extra_terms=[spring], monitors={"right": right})
+    result = penalty.run(progress=False)
+    reference = Solver(basis, LinearElastic(E, NU), tension_bcs(basis)).run(progress=False)
+    assert result.curves["F_right"][-1] == pytest.approx(reference.curves["F_right"][-1], rel=1e-5)
+
+    f = np.zeros(basis.N)
+    f[right] = 1.0
+    as_term = Solver(basis, LinearElastic(E, NU), fixed, extra_terms=[lambda u, ctx: (-ctx.load_factor * f, None)])
+    as_load = Solver(basis, LinearElastic(E, NU), fixed, external_force=lambda lam: lam * f)
+    assert np.allclose(as_term.run(progress=False).u, as_load.run(progress=False).u, rtol=1e-12)
+
+
+# ---- output -----------------------------------------------------------------------------------------------------
+def test_results_are_written_as_the_run_goes(tmp_path):
+    material = VonMisesPlasticity(200000.0, 0.33, 60.0, 8000.0, integration="implicit")
+    solver = plate_with_hole_problem(material, n_angular=6, n_radial=4, displacement=0.05)
+    rows = []
+    result = solver.run(output=tmp_path, vtu_every=2, progress=False,
+                        on_step=lambda r: rows.append(len(read_curve(tmp_path / "curves.csv")["step"])))
+    assert rows == list(range(2, len(result.load_factors) + 1))  # each step flushed before the callback
+    curve = read_curve(tmp_path / "curves.csv")
+    assert np.allclose(curve["F_top"], result.curves["F_top"]) and curve["u_top"][-1] == pytest.approx(0.05)
+    pvd = (tmp_path / "fields" / "step.pvd").read_text()
+    files = sorted((tmp_path / "fields").glob("*.vtu"))
+    assert len(files) == (len(result.load_factors) + 1) // 2 and pvd.count("<DataSet") == len(files)
+    last = meshio.read(files[-1])
+    assert {"stress_yy", "von_mises", "alpha_p"} <= set(last.cell_data)
+    assert last.point_data["displacement"].shape == (solver.kin.basis.mesh.p.shape[1], 3)
+
+
+def test_3d_amg_solver_matches_direct():
+    mesh = meshes.graded_block(size=(4.0, 2.0, 2.0), divisions=(6, 3, 3), fine_at=(0.0, None, None),
+                               grading=(2.0, 1.0, 1.0))
+    basis = vector_basis(mesh)
+    bcs = [Dirichlet.on(basis, "xmin", "xyz"), Dirichlet.on(basis, "xmax", "z", -0.05, name="tip")]
+    material = VonMisesPlasticity(E, NU, R_P, 5000.0, integration="implicit")
+    options = dict(control=StepControl(initial=0.5, maximum=0.5))
+    direct = Solver(basis, material, bcs, linear_solver="direct", **options).run(progress=False)
+    amg = Solver(basis, material, bcs, linear_solver="amg", **options).run(progress=False)
+    assert amg.u == pytest.approx(direct.u, abs=1e-8 * np.abs(direct.u).max())
+    assert np.abs(amg.iterations - direct.iterations).max() <= 1  # inexact linear solves: at most one more
+
+
+@dataclass(frozen=True)
+class SkewElastic:
+    """Linear material with a non-symmetric tangent C + W (W skew): AMG must switch from CG to GMRES."""
+
+    elastic: LinearElastic
+
+    @property
+    def tangent(self):
+        W = np.zeros((6, 6))
+        W[0, 1], W[1, 0] = 0.2 * self.elastic.E, -0.2 * self.elastic.E
+        return self.elastic.stiffness + W
+
+    def initial_state(self, shape):
+        return self.elastic.initial_state(shape)
+
+    def update(self, state, eps, dt=1.0, **loading):
+        C = self.tangent
+        return MaterialResponse(eps @ C.T, np.broadcast_to(C, eps.shape + (6,)).copy(), {"eps": eps})
+
+
+def test_amg_handles_a_non_symmetric_tangent():
+    mesh = meshes.graded_block(size=(4.0, 2.0, 2.0), divisions=(6, 3, 3))
+    basis = vector_basis(mesh)
+    bcs = [Dirichlet.on(basis, "xmin", "xyz"), Dirichlet.on(basis, "xmax", "xz", 0.01, name="tip")]
+    material = SkewElastic(LinearElastic(E, NU))
+    control = StepControl(initial=1.0, maximum=1.0)
+    direct = Solver(basis, material, bcs, linear_solver="direct", control=control).run(progress=False)
+    amg_solver = Solver(basis, material, bcs, linear_solver="amg", control=control)
+    amg = amg_solver.run(progress=False)
+    assert amg_solver.linear_solver._method.__name__ == "gmres"
+    assert amg.u == pytest.approx(direct.u, abs=1e-8 * np.abs(direct.u).max())
+
+
+# ---- invalid input -----------------------------------------------------------------------------------------------
+@pytest.mark.parametrize("kwargs, match", [
+    (dict(cutback=1.5), "cutback"), (dict(minimum=0.0), "minimum"), (dict(initial=2.0, maximum=1.0), "initial"),
+    (dict(growth=0.5), "growth"),
+])
+def test_invalid_step_control_raises(kwargs, match):
+    with pytest.raises(ValueError, match=match):
+        StepControl(**kwargs)
+
+
+def test_invalid_inputs_raise():
+    basis = vector_basis(strip())
+    with pytest.raises(ValueError, match="max_iterations"):
+        NewtonOptions(max_iterations=0)
+    with pytest.raises(ValueError, match="boundary"):
+        Dirichlet.on(basis, "nowhere", "x")
+    with pytest.raises(ValueError, match="components"):
+        Dirichlet.on(basis, "left", "z")
+    with pytest.raises(ValueError, match="one entry per DOF"):
+        Dirichlet(np.arange(3), [1.0, 2.0])
+    with pytest.raises(ValueError, match="linear_solver"):
+        Solver(basis, LinearElastic(E, NU), tension_bcs(basis), linear_solver="magic")
+    with pytest.raises(ValueError, match="end"):
+        Solver(basis, LinearElastic(E, NU), tension_bcs(basis)).run(end=0.0, progress=False)
