@@ -12,12 +12,12 @@ included. Both wall-clock and CPU time are recorded (the machine may be shared);
 
 from __future__ import annotations
 
-import argparse
 import json
 import pathlib
 import time
 
 import numpy as np
+from _common import command_line, save_figure
 
 from abrakit.dem import Simulation, Walls, dense_packing, two_sphere_impact
 from abrakit.dem.kernels import HAVE_NUMBA
@@ -124,9 +124,7 @@ def plot(rows, path):
     c.set_xlabel("run time [s]")
     c.set_ylabel("|duration error| (ζ = 0.3)")
     c.set_title("impact: error vs time (labels: steps/contact)")
-    fig.tight_layout()
-    fig.savefig(path, dpi=120)
-    plt.close(fig)
+    save_figure(fig, path)
 
 
 def main(outdir: pathlib.Path = pathlib.Path(__file__).parent / "results", quick: bool = False) -> dict:
@@ -174,8 +172,4 @@ def main(outdir: pathlib.Path = pathlib.Path(__file__).parent / "results", quick
 
 
 if __name__ == "__main__":
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--quick", action="store_true", help="10³ and 10⁴ particles, fewer steps")
-    parser.add_argument("--outdir", type=pathlib.Path, default=pathlib.Path(__file__).parent / "results")
-    args = parser.parse_args()
-    main(args.outdir, quick=args.quick)
+    command_line(main, __doc__, quick_help="10³ and 10⁴ particles, fewer steps")

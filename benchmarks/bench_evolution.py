@@ -14,11 +14,11 @@ throughput, parameters) and ``evolution.png`` (error vs Δt and error vs runtime
 
 from __future__ import annotations
 
-import argparse
 import time
 from pathlib import Path
 
 import numpy as np
+from _common import command_line, save_figure
 
 from abrakit import evolution as ev
 from abrakit.io import CurveWriter, write_json
@@ -116,14 +116,8 @@ def plot(studies, path):
         for ax in row:
             ax.grid(True, which="both", alpha=0.3)
             ax.legend(fontsize=8)
-    fig.tight_layout()
-    fig.savefig(path, dpi=120)
-    plt.close(fig)
+    save_figure(fig, path)
 
 
 if __name__ == "__main__":
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--quick", action="store_true", help="fewer time steps (seconds instead of a minute)")
-    parser.add_argument("--outdir", type=Path, default=Path(__file__).parent / "results")
-    cli = parser.parse_args()
-    print(main(cli.outdir, cli.quick)["summary"])
+    command_line(main, __doc__, quick_help="fewer time steps (seconds instead of a minute)")

@@ -20,12 +20,12 @@ writes ``fem.csv`` (one row per case, flushed as it goes), ``fem.json`` (summary
 
 from __future__ import annotations
 
-import argparse
 import time
 from pathlib import Path
 
 import numpy as np
 import skfem
+from _common import command_line, save_figure
 
 from abrakit.fem import Assembler, Dirichlet, Kinematics, Solver, StepControl, meshes, vector_basis
 from abrakit.fem.assembly import skfem_internal_force, skfem_tangent
@@ -160,9 +160,7 @@ def plot(path, assembly, plate, linear):
         a.grid(True, which="both", alpha=0.3)
         a.legend(fontsize=8)
         a.xaxis.set_minor_formatter(NullFormatter())
-    fig.tight_layout()
-    fig.savefig(path, dpi=120)
-    plt.close(fig)
+    save_figure(fig, path)
 
 
 def main(outdir: Path = Path(__file__).parent / "results", quick: bool = False) -> dict:
@@ -199,8 +197,4 @@ def main(outdir: Path = Path(__file__).parent / "results", quick: bool = False) 
 
 
 if __name__ == "__main__":
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--quick", action="store_true", help="small meshes only (seconds instead of minutes)")
-    parser.add_argument("--outdir", type=Path, default=Path(__file__).parent / "results")
-    cli = parser.parse_args()
-    print(main(cli.outdir, cli.quick)["summary"])
+    command_line(main, __doc__, quick_help="small meshes only (seconds instead of minutes)")

@@ -16,11 +16,11 @@ Run: ``python benchmarks/bench_identification.py [--quick] [--outdir DIR]``.
 
 from __future__ import annotations
 
-import argparse
 import time
 from pathlib import Path
 
 import numpy as np
+from _common import command_line, save_figure
 
 from abrakit import identification as I
 from abrakit.io import CurveWriter, read_curve, write_json
@@ -142,15 +142,8 @@ def _plot(data, summary, path):
     for ax in (ax1, ax2):
         ax.grid(True, which="both", alpha=0.3)
         ax.legend(fontsize=8)
-    fig.tight_layout()
-    fig.savefig(path, dpi=120)
-    plt.close(fig)
+    save_figure(fig, path)
 
 
 if __name__ == "__main__":
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--quick", action="store_true")
-    parser.add_argument("--outdir", type=Path, default=Path(__file__).parent / "results")
-    args = parser.parse_args()
-    result = main(args.outdir, quick=args.quick)
-    print({k: v for k, v in result.items() if k != "family_codes"})
+    command_line(main, __doc__, report=lambda r: {k: v for k, v in r.items() if k != 'family_codes'})

@@ -10,11 +10,11 @@ application ``L @ f`` (every Newton step), the number of least-squares fallbacks
 
 from __future__ import annotations
 
-import argparse
 import pathlib
 import time
 
 import numpy as np
+from _common import command_line, save_figure
 
 from abrakit.damage.laplacian import element_laplacian, face_neighbours, unit_cube_mesh
 from abrakit.io import CurveWriter, write_json
@@ -106,9 +106,7 @@ def plot(results, path) -> None:
     ax_cost.set(xlabel="set-up time of L [s] (once per mesh; L @ f costs ~5 ns per element)",
                 ylabel=r"rms error of $\Lambda_f$", title="speed against error")
     ax_cost.legend(fontsize=7)
-    fig.tight_layout()
-    fig.savefig(path, dpi=130)
-    plt.close(fig)
+    save_figure(fig, path, dpi=130)
 
 
 def main(outdir: pathlib.Path = pathlib.Path(__file__).parent / "results", quick: bool = False) -> dict:
@@ -145,16 +143,18 @@ def main(outdir: pathlib.Path = pathlib.Path(__file__).parent / "results", quick
     return summary
 
 
-if __name__ == "__main__":
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--quick", action="store_true", help="coarse meshes only")
-    parser.add_argument("--outdir", type=pathlib.Path, default=pathlib.Path(__file__).parent / "results")
-    args = parser.parse_args()
-    summary = main(args.outdir, quick=args.quick)
+def report(summary) -> str:
+    lines = []
     for family, info in summary["families"].items():
         finest = info["finest"]
-        print(f"{family:20s} rate max {info['rates']['max_error']:.2f} rms {info['rates']['rms_error']:.2f}  "
-              f"finest {finest['elements']:6d} el: rms {finest['rms_error']:.2e}, set-up "
-              f"{finest['setup_us_per_element']:.1f} µs/el, L@f {finest['apply_us_per_element'] * 1e3:.1f} ns/el, "
-              f"quadratic {info['worst_quadratic_error_over_roundoff_floor']:.1f} x roundoff, "
-              f"fallbacks {info['total_fallbacks']}")
+        lines.append(
+            f"{family:20s} rate max {info['rates']['max_error']:.2f} rms {info['rates']['rms_error']:.2f}  "
+            f"finest {finest['elements']:6d} el: rms {finest['rms_error']:.2e}, set-up "
+            f"{finest['setup_us_per_element']:.1f} µs/el, L@f {finest['apply_us_per_element'] * 1e3:.1f} ns/el, "
+            f"quadratic {info['worst_quadratic_error_over_roundoff_floor']:.1f} x roundoff, "
+            f"fallbacks {info['total_fallbacks']}")
+    return "\n".join(lines)
+
+
+if __name__ == "__main__":
+    command_line(main, __doc__, quick_help="coarse meshes only", report=report)

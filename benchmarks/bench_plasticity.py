@@ -15,11 +15,11 @@ updates. Writes ``plasticity.csv`` (one row per run, as it goes), ``plasticity.j
 
 from __future__ import annotations
 
-import argparse
 import pathlib
 import time
 
 import numpy as np
+from _common import command_line, save_figure
 
 from abrakit.io import CurveWriter, write_json
 from abrakit.materials import TABLE_7_1, VonMisesPlasticity, uniaxial_yield_stress
@@ -137,17 +137,8 @@ def plot(rows, path) -> None:
         ax.grid(True, which="both", alpha=0.3)
     ax_n.legend(fontsize=8)
     fig.suptitle("Plasticity update: explicit Euler (seed) vs radial return")
-    fig.tight_layout()
-    fig.savefig(path, dpi=120)
-    plt.close(fig)
+    save_figure(fig, path)
 
 
 if __name__ == "__main__":
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--quick", action="store_true")
-    parser.add_argument("--outdir", type=pathlib.Path, default=pathlib.Path(__file__).parent / "results")
-    args = parser.parse_args()
-    result = main(args.outdir, quick=args.quick)
-    for key, value in result.items():
-        if "/" in key:
-            print(key, value)
+    command_line(main, __doc__, report=lambda r: '\n'.join(f'{k} {v}' for k, v in r.items() if '/' in k))

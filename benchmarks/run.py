@@ -25,6 +25,9 @@ def discover(directory: Path = HERE) -> dict[str, Path]:
 
 
 def load(path: Path):
+    """Import a benchmark script as a module (its folder on ``sys.path`` for the shared ``_common``)."""
+    if str(path.parent) not in sys.path:
+        sys.path.insert(0, str(path.parent))
     spec = importlib.util.spec_from_file_location(f"abrakit_bench_{path.stem}", path)
     module = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(module)
