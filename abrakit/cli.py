@@ -16,7 +16,9 @@ DEMOS = {
     "wear": "abrakit.wear",
     "fem": "abrakit.fem",
     "materials": "abrakit.materials",
-    "damage": "abrakit.damage.laplacian",
+    "laplacian": "abrakit.damage.laplacian",
+    "localisation": "abrakit.damage.localisation",
+    "model_one": "abrakit.damage.model_one_fe",
     "scratch": "abrakit.scratch",
 }
 

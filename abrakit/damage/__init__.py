@@ -10,6 +10,8 @@ from abrakit.damage.laplacian import (
     taylor_matrix,
     unit_cube_mesh,
 )
+from abrakit.damage.localisation import localisation_study, run_bar
+from abrakit.damage.model_one_fe import ModelIResult, ModelISolver, solve_model_one
 
 __all__ = [
     "ElementLaplacian",
@@ -20,4 +22,9 @@ __all__ = [
     "mirror_points",
     "taylor_matrix",
     "unit_cube_mesh",
+    "localisation_study",
+    "run_bar",
+    "ModelIResult",
+    "ModelISolver",
+    "solve_model_one",
 ]
