@@ -19,6 +19,7 @@ DEMOS = {
     "laplacian": "abrakit.damage.laplacian",
     "localisation": "abrakit.damage.localisation",
     "model_one": "abrakit.damage.model_one_fe",
+    "model_two": "abrakit.damage.model_two_fe",
     "scratch": "abrakit.scratch",
 }
 

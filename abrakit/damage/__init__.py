@@ -12,6 +12,8 @@ from abrakit.damage.laplacian import (
 )
 from abrakit.damage.localisation import localisation_study, run_bar
 from abrakit.damage.model_one_fe import ModelIResult, ModelISolver, solve_model_one
+from abrakit.damage.model_two_fe import ModelTwoResult, run_model_two
+from abrakit.damage.specimens import Specimen, run_specimen, specimen
 
 __all__ = [
     "ElementLaplacian",
@@ -27,4 +29,9 @@ __all__ = [
     "ModelIResult",
     "ModelISolver",
     "solve_model_one",
+    "ModelTwoResult",
+    "run_model_two",
+    "Specimen",
+    "run_specimen",
+    "specimen",
 ]

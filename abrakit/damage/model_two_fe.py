@@ -1,0 +1,396 @@
+r"""Model II in the finite element loop: Algorithm 2 of the seed on :class:`abrakit.fem.Solver` (Ch. 6.5).
+
+Every quadrature point carries an emulated RVE of ``n`` sub-domains (:class:`abrakit.materials.ModelIIDamage`):
+in every Newton iteration of a load step m -> m+1 the material is called from the converged state m with the
+current strain, does the plastic step with ``f_bar^m``, sweeps the sub-domains (rule 6.95: sub-domain i grows by
+the rate limit where ``p_d,i > r_d / n``, capped at ``d_i <= 0.999``) and returns ``f_bar^{m+1} E : eps_e`` (6.99).
+
+**The rate limit, Eq. (6.96)-(6.98), (6.103).** The damage of a sub-domain may grow in one step by at most
+``alpha l_ext dt``, with the power of the external forces (6.97) ``l_ext = Delta u . sum f* / dt``. What is passed
+to the material (as ``external_work``, so ``dt`` drops out) is
+
+.. math::
+
+    \ell_\text{ext}\,\Delta t = s \sum_{D} \big(u_D^{m+1} - u_D^{m}\big)\, f^{*m}_D \qquad [\text{N mm}],
+
+the sum running over all prescribed DOFs D (only the loaded edge moves, so it is the increment of the applied
+displacement times the reaction of the loaded edge), with the reactions ``f*^m`` = internal forces on those DOFs
+at the **last converged** step (explicit: the increment is fixed during the Newton iterations of a step, so
+Newton sees a material whose damage rule does not chase its own reaction) and ``s`` the specimen's
+``force_scale`` (the 3 mm thickness in plane strain: ``alpha`` of Table 7.2 is per N mm of the seed's 3 mm plate,
+and ``l_ext`` is the power on the modelled quarter/half, as the seed's model sees it). In the first step
+``f*^0 = 0``, so no damage can start there. With ``dt = 1 s`` (Table 7.2) ``l_ext`` and the work coincide.
+
+**Energy bookkeeping** per converged step (N mm, for the whole 3 mm plate):
+
+- external work ``W = sum 1/2 s (f*^m + f*^{m+1}) . (u^{m+1} - u^m)`` (trapezoidal rule on the reactions);
+- stored energy ``int (f_bar Psi0 + 1/2 K_H alpha_p^2) dV`` (6.89);
+- plastic dissipation ``int r_p sum |d eps_p| dV`` (6.82);
+- damage dissipation: the energy released by the damage increments, in the trapezoidal form that matches W,
+  ``int 1/2 (f_bar^m - f_bar^{m+1}) eps_e^m : E : eps_e^{m+1} dV`` -- all of it is dissipated, since the rate
+  limit (not ``r_d``) is what stops the growth: ``p_d,i dd_i >= r_d/n dd_i`` (6.95); the part
+  ``r_d/n sum dd_i`` of (6.90) is recorded as ``threshold_dissipation``.
+
+With these, ``W = stored + dissipated`` is an identity for the elastic and damage parts; what remains
+(``energy_error``) is the first-order splitting error of Algorithm 2, whose plastic step uses ``f_bar^m`` while
+the stress carries ``f_bar^{m+1}``: it shrinks in proportion to the load step.
+
+**Output** (directory ``output``): ``force_displacement.csv`` (one row per converged step, written as the run
+goes), ``fields/damage.pvd`` + ``.vtu`` (every ``vtu_every`` steps and the last one: displacement; per element
+``f_bar``, ``stiffness_loss = 1 - f_bar``, ``d_mean`` and ``d_max`` over the sub-domains, ``alpha_p``,
+``psi0``, ``von_mises``), ``summary.json``, and ``last_converged.npz`` (the final state, or the last good one
+when a step failed; :func:`abrakit.fem.load_checkpoint` reads it).
+
+**Sudden force drops.** A step whose Newton iterations fail (a band snapping through) is cut back by the solver
+(the damage increment shrinks with the displacement increment); below ``control.minimum`` the run stops with
+``status = "failed"``, a message naming the load factor, and the last converged state in the result and on disk.
+The run may also stop once the force has fallen below ``stop_fraction`` of its peak (``status = "fractured"``).
+
+Units: N, mm, MPa; ``alpha`` in 1/(N mm).
+"""
+
+from __future__ import annotations
+
+import time as _time
+import warnings
+from collections.abc import Callable
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from ..io import CurveWriter, VtuSeries, write_json
+from ..materials import TABLE_7_2, ModelIIDamage
+from ..materials.model_two import damage_function, effective_damage_function
+from ..validation import check_positive, check_range
+
+CURVE_COLUMNS = ("step", "load_factor", "u", "F", "external_work", "rate_limit_work", "damage_increment",
+                 "stored_energy", "plastic_dissipation", "damage_dissipation", "threshold_dissipation",
+                 "dissipated_energy", "energy_error", "max_d", "min_f_bar", "damaged_area", "iterations",
+                 "cutbacks", "seconds")
+
+
+def element_mean(values: np.ndarray, dx: np.ndarray) -> np.ndarray:
+    """Volume average over each element of a quadrature-point field ``(nel, nqp)``: ``int_e v dV / V_e``."""
+    return np.einsum("eq,eq->e", values, dx) / dx.sum(axis=1)
+
+
+def element_f_bar(state: dict, dx: np.ndarray) -> np.ndarray:
+    """Element mean of ``f_bar`` (6.87), in [0, 1] (the rounding of the mean of ones is clipped)."""
+    return np.minimum(element_mean(f_bar_of(state), dx), 1.0)
+
+
+def rate_limit_work(u: np.ndarray, u_old: np.ndarray, reactions_old: np.ndarray, prescribed: np.ndarray,
+                    force_scale: float = 1.0) -> float:
+    """``l_ext dt = s sum_D (u_D^{m+1} - u_D^m) f*_D^m`` (N mm), Eq. (6.97) times dt: the work of the last
+    converged reactions ``reactions_old`` (internal forces, N or N/mm) over the applied displacement increment."""
+    du = np.asarray(u)[prescribed] - np.asarray(u_old)[prescribed]
+    return float(force_scale * np.dot(du, np.asarray(reactions_old)[prescribed]))
+
+
+def f_bar_of(state: dict) -> np.ndarray:
+    """Effective damage function ``f_bar = n / sum 1/f(d_i)`` (6.87) at every point of a Model II state."""
+    return effective_damage_function(damage_function(state["d"]))
+
+
+def default_material(alpha: float = 0.05, **overrides) -> ModelIIDamage:
+    """Table 7.2 (E, nu, r_d, n, dt, r_p, K_H) with the given ``alpha``; implicit return map unless overridden.
+
+    The seed integrates plasticity by explicit Euler (6.59); the radial return (backward Euler) used by default
+    here is exact on radial paths and has no first-order lag of ``alpha_p`` (see :mod:`abrakit.materials.plasticity`);
+    ``integration="explicit"`` gives the seed's scheme.
+    """
+    params = {**TABLE_7_2, "alpha": check_positive("alpha", alpha), "integration": "implicit"}
+    params.update(overrides)
+    return ModelIIDamage(**params)
+
+
+@dataclass
+class ModelTwoResult:
+    """History of a Model II run; ``curves`` has one entry per converged step (index 0: the unloaded start).
+
+    ``curves``: the :data:`CURVE_COLUMNS` -- ``u`` (mm) and ``F`` (N, whole specimen) of the loaded edge, the
+    energies (N mm), ``rate_limit_work`` (the work passed to the rate limit in that step), ``damage_increment``
+    (``alpha`` times it), ``max_d``, ``min_f_bar``, ``damaged_area`` (mm^2 with ``f_bar <= 0.25``), Newton
+    ``iterations``, ``cutbacks`` so far, ``seconds`` (wall time of the step). Final element fields: ``f_bar``,
+    ``d_mean``, ``alpha_p`` (element means). ``status``: ``"end"`` (load path completed), ``"fractured"``
+    (force fell below ``stop_fraction`` of the peak), ``"failed"`` (a step could not be completed; ``message``).
+    """
+
+    curves: dict[str, np.ndarray]
+    f_bar: np.ndarray
+    d_mean: np.ndarray
+    alpha_p: np.ndarray
+    u: np.ndarray
+    state: dict
+    status: str
+    message: str
+    cutbacks: int
+    wall_time: float
+    alpha: float
+    elements: int
+    output: Path | None = None
+    checkpoint: Path | None = None
+
+    @property
+    def completed(self) -> bool:
+        return self.status != "failed"
+
+    @property
+    def steps(self) -> int:
+        return len(self.curves["step"]) - 1
+
+    @property
+    def newton_iterations(self) -> int:
+        return int(self.curves["iterations"].sum())
+
+    @property
+    def stiffness_loss(self) -> np.ndarray:
+        """``1 - f_bar`` per element: 0 intact, 1 fully damaged."""
+        return 1.0 - self.f_bar
+
+    def peak(self) -> tuple[float, float]:
+        """``(F_max, u at F_max)`` (N, mm)."""
+        i = int(np.argmax(self.curves["F"]))
+        return float(self.curves["F"][i]), float(self.curves["u"][i])
+
+    @property
+    def dissipated_energy(self) -> float:
+        """Total dissipation at the end of the run (plastic + damage), N mm."""
+        return float(self.curves["dissipated_energy"][-1])
+
+    def summary(self) -> dict:
+        F_max, u_peak = self.peak()
+        c = self.curves
+        return {"status": self.status, "message": self.message, "alpha": self.alpha, "elements": self.elements,
+                "steps": self.steps, "newton_iterations": self.newton_iterations, "cutbacks": self.cutbacks,
+                "wall_time_s": self.wall_time, "seconds_per_step": self.wall_time / max(self.steps, 1),
+                "peak_force_N": F_max, "u_at_peak_mm": u_peak, "final_u_mm": float(c["u"][-1]),
+                "external_work_Nmm": float(c["external_work"][-1]), "dissipated_energy_Nmm": self.dissipated_energy,
+                "energy_error_Nmm": float(c["energy_error"][-1]), "max_d": float(c["max_d"].max()),
+                "min_f_bar": float(c["min_f_bar"].min())}
+
+
+class _Stop(Exception):
+    pass
+
+
+@dataclass
+class _Bookkeeping:
+    rows: list = field(default_factory=list)
+    external: float = 0.0
+    plastic: float = 0.0
+    released: float = 0.0
+    threshold: float = 0.0
+    peak: float = 0.0
+    u_prev: np.ndarray | None = None
+    f_prev: np.ndarray | None = None
+    state_prev: dict | None = None
+    clock: float = 0.0
+    last: object = None
+
+
+def model_two_solver(basis, material: ModelIIDamage, dirichlet, *, force_scale: float = 1.0, steps: int = 200,
+                     control=None, newton=None, linear_solver="auto", end: float = 1.0):
+    """:class:`abrakit.fem.Solver` with the Model II rate limit in its ``loading`` hook (see the module docstring).
+
+    ``steps`` equal load increments over ``[0, end]`` unless ``control`` is given: cutbacks by 1/4 down to
+    ``1e-3`` of a step; after a cutback the increment doubles again after every step that converged within
+    8 Newton iterations. (The damage rule switches sub-domains on and off between iterates, so Model II steps
+    often need 5-8 iterations; with the solver's default "easy" limit of 4 a single cutback at a damage jump
+    would leave the rest of the run at the small increment.)
+    """
+    from ..fem import Solver, StepControl
+
+    steps = int(check_range("steps", steps, 1, None))
+    if control is None:
+        step = end / steps
+        control = StepControl(initial=step, maximum=step, minimum=step * 1e-3, growth=2.0, easy_iterations=8,
+                              easy_steps=1)
+    solver = Solver(basis, material, dirichlet, control=control, newton=newton, linear_solver=linear_solver)
+    prescribed = solver.constraints.prescribed
+    scale = check_positive("force_scale", force_scale)
+
+    def loading(ctx):
+        return {"external_work": rate_limit_work(ctx.u, ctx.u_old, ctx.f_int_old, prescribed, scale)}
+
+    solver.loading = loading
+    return solver
+
+
+def run_model_two(specimen, alpha: float = 0.05, *, material: ModelIIDamage | None = None, steps: int = 200,
+                  end: float = 1.0, stop_fraction: float | None = None, output: str | Path | None = None,
+                  vtu_every: int = 0, control=None, newton=None, linear_solver="auto", progress: bool = False,
+                  on_step: Callable[[ModelTwoResult], None] | None = None) -> ModelTwoResult:
+    """Load ``specimen`` (:mod:`abrakit.damage.specimens`) with Model II: Algorithm 2 at every quadrature point.
+
+    Parameters
+    ----------
+    specimen : a :class:`~abrakit.damage.specimens.Specimen` (mesh, basis, Dirichlet conditions, loaded edge).
+    alpha : rate-limit factor (1/(N mm)): Table 7.2 uses 0.05 (almost local) and 0.005 (regularised).
+    material : a :class:`ModelIIDamage`; default :func:`default_material` (Table 7.2 with ``alpha``).
+    steps : number of equal load steps from 0 to ``end`` (load factor; 1 = ``specimen.displacement``).
+    stop_fraction : stop once the force has fallen below this fraction of its peak after the peak.
+    output : directory for the curves, VTU fields (every ``vtu_every`` steps, 0: last step only), summary and
+        checkpoint; ``None`` writes nothing.
+    on_step : called with the partial result after every converged step.
+    """
+    from ..fem import StepFailed
+    from ..fem.output import cell_fields, meshio_cells, save_checkpoint
+
+    material = default_material(alpha) if material is None else material
+    if stop_fraction is not None:
+        check_range("stop_fraction", stop_fraction, 0.0, 1.0, low_open=True, high_open=True)
+    vtu_every = int(check_range("vtu_every", vtu_every, 0, None))
+    solver = model_two_solver(specimen.basis, material, specimen.dirichlet, force_scale=specimen.force_scale,
+                              steps=steps, control=control, newton=newton, linear_solver=linear_solver, end=end)
+    kin, scale = solver.kin, specimen.force_scale
+    dx = kin.dx
+    prescribed = solver.constraints.prescribed
+    loaded = specimen.loaded_dofs
+    mesh = kin.basis.mesh
+    out = Path(output) if output is not None else None
+    writer = CurveWriter(out / "force_displacement.csv", CURVE_COLUMNS) if out is not None else None
+    vtu = VtuSeries(out / "fields", stem="damage") if out is not None else None
+    nodal = np.asarray(kin.basis.nodal_dofs)
+    points = np.vstack([mesh.p, np.zeros((3 - mesh.dim(), mesh.p.shape[1]))]).T
+    book = _Bookkeeping()
+    t0 = _time.perf_counter()
+
+    def write_fields(res, step):
+        if vtu is None:
+            return
+        state = res.state
+        f_bar = element_f_bar(state, dx)
+        fields = cell_fields(res.response.stress, {})
+        fields.update(f_bar=f_bar, stiffness_loss=1.0 - f_bar, d_mean=element_mean(state["d"].mean(axis=-1), dx),
+                      d_max=state["d"].max(axis=(1, 2)), alpha_p=element_mean(state["alpha_p"], dx),
+                      psi0=element_mean(state["psi0"], dx))
+        disp = np.zeros((mesh.p.shape[1], 3))
+        disp[:, : nodal.shape[0]] = res.u[nodal].T
+        vtu.write(float(step), points, meshio_cells(mesh), point_data={"displacement": disp},
+                  cell_data={k: [np.asarray(v, dtype=float)] for k, v in fields.items()})
+
+    def account(res):
+        """Energies and checks of the last converged step (the first call records the start)."""
+        state, u, f_int = res.state, res.u, res.f_int
+        step = len(res.load_factors) - 1
+        f_bar = f_bar_of(state)
+        row = {"step": step, "load_factor": float(res.load_factors[-1]),
+               "u": float(np.mean(u[loaded])), "F": scale * float(np.sum(f_int[loaded])),
+               "iterations": int(res.iterations[-1]), "cutbacks": int(res.cutbacks)}
+        work = 0.0
+        if book.state_prev is not None:
+            old = book.state_prev
+            if np.any(state["d"] < old["d"]):
+                raise RuntimeError("Model II: damage decreased in a converged step (irreversibility violated)")
+            work = rate_limit_work(u, book.u_prev, book.f_prev, prescribed, scale)
+            book.external += 0.5 * scale * float(np.dot((book.f_prev + f_int)[prescribed],
+                                                        (u - book.u_prev)[prescribed]))
+            # released energy, trapezoidal like W: 1/2 (f_bar^m - f_bar^{m+1}) eps_e^m : E : eps_e^{m+1}
+            cross = np.einsum("...i,ij,...j->...", old["eps"] - old["eps_p"], material.stiffness,
+                              state["eps"] - state["eps_p"])
+            book.released += scale * float(np.sum(dx * 0.5 * (f_bar_of(old) - f_bar) * cross))
+            dd = np.sum(state["d"] - old["d"], axis=-1)
+            threshold = material.r_d / material.n * dd
+            book.threshold += scale * float(np.sum(dx * threshold))
+            book.plastic += scale * float(np.sum(dx * (state["dissipation"] - old["dissipation"] - threshold)))
+        d_max = float(state["d"].max(initial=0.0))
+        if d_max > material.d_max * (1 + 1e-12):
+            raise RuntimeError(f"Model II: damage {d_max} above the cap d_max = {material.d_max}")
+        stored = scale * float(np.sum(dx * material.stored_energy(state)))
+        dissipated = book.plastic + book.released
+        now = _time.perf_counter()
+        row.update(external_work=book.external, rate_limit_work=work,
+                   damage_increment=material.alpha * max(work, 0.0), stored_energy=stored,
+                   plastic_dissipation=book.plastic, damage_dissipation=book.released,
+                   threshold_dissipation=book.threshold, dissipated_energy=dissipated,
+                   energy_error=book.external - stored - dissipated, max_d=d_max,
+                   min_f_bar=float(f_bar.min(initial=1.0)),
+                   damaged_area=scale / specimen.thickness * float(np.sum(dx * (f_bar <= 0.25))),
+                   seconds=now - book.clock)
+        book.clock = now
+        book.rows.append(row)
+        book.u_prev, book.f_prev, book.state_prev, book.last = u, f_int, state, res
+        book.peak = max(book.peak, row["F"])
+        if writer is not None:
+            writer.write(**row)
+        if vtu_every and step % vtu_every == 0:
+            write_fields(res, step)
+
+    def result(status, message, solve, checkpoint=None) -> ModelTwoResult:
+        curves = {k: np.array([r[k] for r in book.rows]) for k in CURVE_COLUMNS}
+        state = solve.state
+        return ModelTwoResult(
+            curves=curves, f_bar=element_f_bar(state, dx),
+            d_mean=element_mean(state["d"].mean(axis=-1), dx), alpha_p=element_mean(state["alpha_p"], dx),
+            u=solve.u, state=state, status=status, message=message, cutbacks=int(solve.cutbacks),
+            wall_time=_time.perf_counter() - t0, alpha=float(material.alpha), elements=int(kin.nel), output=out,
+            checkpoint=checkpoint)
+
+    def after_step(res):
+        account(res)
+        if on_step is not None:
+            on_step(result("running", "", res))
+        F = book.rows[-1]["F"]
+        if stop_fraction is not None and len(book.rows) > 2 and F < stop_fraction * book.peak:
+            raise _Stop()
+
+    # the unloaded start (the solver records it but reports only converged steps to on_step)
+    start_state = material.initial_state((kin.nel, kin.nqp))
+    book.u_prev, book.f_prev = solver.constraints.apply(np.zeros(kin.ndof), 0.0), np.zeros(kin.ndof)
+    book.rows.append({k: 0.0 for k in CURVE_COLUMNS} | {"min_f_bar": 1.0, "u": float(np.mean(book.u_prev[loaded]))})
+    if writer is not None:
+        writer.write(**book.rows[0])
+    book.state_prev = start_state
+    status, message, checkpoint = "end", "", None
+    try:
+        book.clock = _time.perf_counter()
+        solve = solver.run(end=end, state0=start_state, progress=progress, on_step=after_step, output=None)
+    except _Stop:
+        solve = book.last
+        status = "fractured"
+        message = (f"stopped at u = {book.rows[-1]['u']:.4g} mm: the force {book.rows[-1]['F']:.4g} N fell below "
+                   f"{stop_fraction:g} of the peak {book.peak:.4g} N")
+    except StepFailed as failure:
+        solve = failure.result
+        status = "failed"
+        message = (f"Model II run stopped at load factor {failure.load_factor:.6g} "
+                   f"(u = {book.rows[-1]['u']:.4g} mm): {failure.reason}; the load step could not be completed "
+                   f"even when cut back to {solver.control.minimum:.3g}. The result and "
+                   f"{'last_converged.npz' if out else 'result.state'} hold the last converged state.")
+        warnings.warn(message, RuntimeWarning, stacklevel=2)
+    finally:
+        if writer is not None:
+            writer.close()
+    if book.last is None:  # not even the first step converged: the last good state is the start
+        book.last = solve
+    if out is not None:
+        last = book.last
+        checkpoint = save_checkpoint(out / "last_converged.npz", last.u, last.state,
+                                     float(last.load_factors[-1]), float(last.times[-1]))
+        if not vtu_every or (len(book.rows) - 1) % vtu_every:
+            write_fields(last, len(book.rows) - 1)
+    res = result(status, message, solve if status != "fractured" else book.last, checkpoint)
+    if out is not None:
+        write_json(out / "summary.json", {"specimen": specimen.summary(), **res.summary()})
+    return res
+
+
+def demo() -> str:
+    """Double-notched strip, ~300 elements, Model II with alpha = 0.005 (Table 7.2): a few seconds."""
+    from .specimens import double_notched
+
+    specimen = double_notched(300)
+    res = run_model_two(specimen, alpha=0.005, steps=100, stop_fraction=0.05)
+    F_max, u_peak = res.peak()
+    s = res.summary()
+    return (
+        f"Model II (ERVE, n = 20, alpha = 0.005 1/(N mm), Table 7.2) on the double-notched strip 50 x 100 mm, "
+        f"{res.elements} elements, plane strain x 3 mm: peak force {F_max:.0f} N at u = {u_peak:.4f} mm; "
+        f"{res.status} after {res.steps} steps ({res.newton_iterations} Newton iterations, {res.cutbacks} "
+        f"cutbacks, {res.wall_time:.1f} s); dissipated {res.dissipated_energy:.1f} N mm of "
+        f"{s['external_work_Nmm']:.1f} N mm external work (balance error {s['energy_error_Nmm']:.2f} N mm); "
+        f"max sub-domain damage {s['max_d']:.3f} (cap 0.999); "
+        f"fully damaged area {res.curves['damaged_area'][-1]:.1f} mm^2."
+    )

@@ -1,0 +1,204 @@
+"""Model II in the finite element loop (abrakit.damage.model_two_fe): Algorithm 2 with the rate limit (6.96-6.98).
+
+The regression reference ``tests/data/double_notch_model2_reference.csv`` was produced by :func:`reference_run`;
+regenerate it (only after a deliberate change of the model) with
+
+    python -c "import tests.test_damage_model_two as t; t.write_reference()"
+"""
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from abrakit.damage import metrics as M
+from abrakit.damage.model_two_fe import (
+    default_material,
+    demo,
+    f_bar_of,
+    rate_limit_work,
+    run_model_two,
+)
+from abrakit.damage.specimens import double_notched, sharp_notch
+from abrakit.fem import NewtonOptions, StepControl, load_checkpoint
+from abrakit.io import CurveWriter, read_curve
+from abrakit.materials import TABLE_7_2
+
+REFERENCE = Path(__file__).parent / "data" / "double_notch_model2_reference.csv"
+REFERENCE_COLUMNS = ("u", "F", "external_work", "dissipated_energy", "max_d")
+
+
+def reference_run(alpha=0.005):
+    """Double-notched strip, ~300 elements, Table 7.2 with alpha = 0.005, 75 steps to u = 0.3 mm, stop at 10 %."""
+    return run_model_two(double_notched(300), alpha, steps=75, stop_fraction=0.1)
+
+
+def write_reference():  # pragma: no cover - run by hand
+    res = reference_run()
+    with CurveWriter(REFERENCE, REFERENCE_COLUMNS) as writer:
+        for i in range(len(res.curves["u"])):
+            writer.write(**{k: float(res.curves[k][i]) for k in REFERENCE_COLUMNS})
+
+
+@pytest.fixture(scope="module")
+def reference():
+    return reference_run()
+
+
+def test_rate_limit_work_is_applied_displacement_times_old_reaction():
+    u_old = np.array([0.0, 0.1, 0.0, 0.2])
+    u = np.array([0.5, 0.15, 7.0, 0.3])
+    f_old = np.array([3.0, 10.0, 99.0, -4.0])
+    prescribed = np.array([1, 3])
+    # 3 mm * (0.05 * 10 + 0.1 * -4) = 0.3
+    assert rate_limit_work(u, u_old, f_old, prescribed, 3.0) == pytest.approx(0.3)
+
+
+def test_reference_curve_is_reproduced(reference):
+    """Regression: peak, curve and energies of the stored run. A 10 % change of alpha breaks these bounds."""
+    ref = read_curve(REFERENCE)
+    c = reference.curves
+    assert reference.status == "fractured"
+    F_max = ref["F"].max()
+    assert M.curve_distance(c["u"], c["F"], ref["u"], ref["F"]) < 2e-3
+    assert abs(c["F"].max() - F_max) < 2e-3 * F_max
+    assert c["u"][-1] == pytest.approx(ref["u"][-1], abs=0.0121)  # within three steps of the stop
+    W = M.work(ref["u"], ref["F"])
+    assert M.work(c["u"], c["F"], upto=min(c["u"][-1], ref["u"][-1])) == pytest.approx(
+        M.work(ref["u"], ref["F"], upto=min(c["u"][-1], ref["u"][-1])), rel=5e-3)
+    assert W == pytest.approx(ref["external_work"][-1], rel=1e-3)
+
+
+def test_reference_bound_detects_a_real_change():
+    changed = reference_run(alpha=0.0055)
+    ref = read_curve(REFERENCE)
+    assert M.curve_distance(changed.curves["u"], changed.curves["F"], ref["u"], ref["F"]) > 2e-3 * 3
+
+
+def test_passed_work_is_exactly_the_documented_one(reference):
+    """rate_limit_work of step m+1 = (u^{m+1} - u^m) F^m (uniform top edge); increment = alpha * that."""
+    c = reference.curves
+    expected = np.diff(c["u"]) * c["F"][:-1]
+    np.testing.assert_allclose(c["rate_limit_work"][1:], expected, rtol=1e-9, atol=1e-9)
+    np.testing.assert_allclose(c["damage_increment"], 0.005 * np.maximum(c["rate_limit_work"], 0.0))
+    assert c["rate_limit_work"][1] == 0.0  # no reaction before the first step: no damage can start there
+
+
+def test_damage_capped_and_irreversible_at_every_step():
+    seen = []
+
+    def check(partial):
+        d = partial.state["d"]
+        seen.append(d)
+        assert d.max() <= TABLE_7_2.get("d_max", 0.999) + 1e-15
+        assert np.all(d <= 0.999)
+        f_bar = f_bar_of(partial.state)
+        assert np.all((f_bar > 0) & (f_bar <= 1.0 + 1e-12))
+
+    res = run_model_two(double_notched(300), 0.05, steps=60, stop_fraction=0.1, on_step=check)
+    assert len(seen) == res.steps
+    for old, new in zip(seen[:-1], seen[1:], strict=True):
+        assert np.all(new >= old)
+    assert res.curves["max_d"].max() == pytest.approx(0.999)  # damage reached the cap ...
+    assert np.all(res.curves["max_d"] <= 0.999)  # ... and never passed it
+    assert res.f_bar.min() > 0.0
+
+
+def test_energy_balance_and_its_first_order_error():
+    """W_ext = stored + plastic + damage dissipation, up to the splitting error, which halves with the step."""
+    errors = []
+    for steps in (75, 150):
+        res = run_model_two(double_notched(300), 0.005, steps=steps, end=0.5)  # to u = 0.15 mm, past the peak
+        c = res.curves
+        W = c["external_work"][-1]
+        assert W == pytest.approx(M.work(c["u"], c["F"]), rel=1e-9)
+        assert c["damage_dissipation"][-1] > 0.2 * W and c["plastic_dissipation"][-1] > 0.2 * W
+        # r_d/n sum dd_i is only a lower bound of the released energy (the rate limit, not r_d, stops growth)
+        assert c["threshold_dissipation"][-1] < c["damage_dissipation"][-1]
+        errors.append(abs(c["energy_error"][-1]) / W)
+    assert errors[1] < 0.02
+    assert errors[1] < 0.7 * errors[0]
+
+
+def test_strong_regularisation_is_mesh_independent_on_two_small_meshes():
+    """alpha = 0.005: peak spread < 1 %, curve distance < 6 %, energy spread < 4 % (about 300 vs 700 elements)."""
+    curves = {}
+    for n in (300, 700):
+        res = run_model_two(double_notched(n), 0.005, steps=75, stop_fraction=0.1)
+        curves[n] = (res.curves["u"], res.curves["F"])
+    study = M.mesh_study(curves)
+    assert study["peak_spread"] < 0.01
+    assert study["max_curve_distance"] < 0.06
+    assert study["work_spread"] < 0.04
+
+
+def test_weak_regularisation_drops_steeper_than_strong(reference):
+    weak = run_model_two(double_notched(300), 0.05, steps=75, stop_fraction=0.1)
+    u_s, F_s = reference.curves["u"], reference.curves["F"]
+    u_w, F_w = weak.curves["u"], weak.curves["F"]
+    assert M.peak(u_w, F_w)[0] < 0.8 * M.peak(u_s, F_s)[0]  # damage sets in at lower force
+    assert M.softening_displacement(u_w, F_w) < M.softening_displacement(u_s, F_s)
+    assert weak.dissipated_energy < reference.dissipated_energy
+
+
+def test_sudden_drop_is_cut_back_or_stopped_with_the_last_state_saved(tmp_path):
+    # 20 big steps: the band snapping through after the peak needs cutbacks, and the run still ends
+    res = run_model_two(sharp_notch(300, displacement=0.1), 0.05, steps=20)
+    assert res.cutbacks > 0 and res.status == "end"
+    assert res.steps > 20 and np.all(np.diff(res.curves["u"]) > 0)
+    # a small Newton budget and a floor on the cutbacks: the run stops at the peak with a message
+    control = StepControl(initial=0.05, maximum=0.05, minimum=0.05 / 16)
+    with pytest.warns(RuntimeWarning, match="stopped at load factor"):
+        failed = run_model_two(sharp_notch(300, displacement=0.1), 0.05, control=control,
+                               newton=NewtonOptions(max_iterations=6), output=tmp_path / "run")
+    assert failed.status == "failed" and not failed.completed
+    assert failed.steps >= 3 and failed.curves["F"][-1] > 0.5 * res.peak()[0]
+    assert "last converged state" in failed.message
+    saved = load_checkpoint(failed.checkpoint)
+    assert saved["load_factor"] == pytest.approx(failed.curves["load_factor"][-1])
+    np.testing.assert_allclose(saved["state"]["d"], failed.state["d"])
+    assert np.all(saved["state"]["d"] <= 0.999)
+    rows = read_curve(tmp_path / "run" / "force_displacement.csv")
+    np.testing.assert_allclose(rows["F"], failed.curves["F"])
+    assert (tmp_path / "run" / "fields" / "damage.pvd").exists()
+
+
+def test_outputs_written_as_the_run_goes(tmp_path):
+    import meshio
+
+    res = run_model_two(double_notched(300), 0.005, steps=30, end=0.4, output=tmp_path, vtu_every=10)
+    rows = read_curve(tmp_path / "force_displacement.csv")
+    assert len(rows["u"]) == res.steps + 1
+    vtus = sorted((tmp_path / "fields").glob("damage_*.vtu"))
+    expected = res.steps // 10 + (1 if res.steps % 10 else 0)  # every 10th step, and the last one once
+    assert len(vtus) == expected
+    mesh = meshio.read(vtus[-1])
+    f_bar = mesh.cell_data["f_bar"][0]
+    np.testing.assert_allclose(f_bar, res.f_bar)
+    for name in ("stiffness_loss", "d_mean", "d_max", "alpha_p", "von_mises"):
+        assert name in mesh.cell_data
+    assert (tmp_path / "summary.json").exists()
+
+
+def test_hard_inputs_are_refused():
+    sp = double_notched(300)
+    with pytest.raises(ValueError, match="alpha"):
+        run_model_two(sp, -1.0)
+    with pytest.raises(ValueError, match="stop_fraction"):
+        run_model_two(sp, 0.05, stop_fraction=1.5)
+    with pytest.raises(ValueError, match="steps"):
+        run_model_two(sp, 0.05, steps=0)
+
+
+def test_default_material_is_table_7_2():
+    m = default_material(0.005)
+    assert (m.E, m.nu, m.r_d, m.n, m.r_p, m.K_H, m.alpha, m.d_max) == (200000.0, 0.33, 0.1, 20, 60.0, 8000.0,
+                                                                        0.005, 0.999)
+    assert m.integration == "implicit" and m.damage_energy == "full"
+    state = m.initial_state((2, 3))
+    assert np.all(f_bar_of(state) == 1.0)
+
+
+def test_demo_runs():
+    text = demo()
+    assert "Model II" in text and "peak force" in text
