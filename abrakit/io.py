@@ -15,11 +15,12 @@ from pathlib import Path
 import numpy as np
 
 
-def _jsonable(obj):
+def jsonable(obj):
+    """``obj`` with numpy arrays and scalars turned into lists and Python numbers, recursively."""
     if isinstance(obj, dict):
-        return {str(k): _jsonable(v) for k, v in obj.items()}
+        return {str(k): jsonable(v) for k, v in obj.items()}
     if isinstance(obj, list | tuple):
-        return [_jsonable(v) for v in obj]
+        return [jsonable(v) for v in obj]
     if isinstance(obj, np.ndarray):
         return obj.tolist()
     if isinstance(obj, np.generic):
@@ -32,7 +33,7 @@ def write_json(path, data) -> Path:
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
     tmp = path.with_suffix(path.suffix + ".tmp")
-    tmp.write_text(json.dumps(_jsonable(data), indent=2))
+    tmp.write_text(json.dumps(jsonable(data), indent=2))
     os.replace(tmp, path)
     return path
 
@@ -64,7 +65,7 @@ class CurveWriter:
         extra = set(values) - set(self.columns)
         if missing or extra:
             raise ValueError(f"CurveWriter row must have columns {self.columns}; missing {missing}, extra {extra}")
-        self._writer.writerow([_jsonable(values[c]) for c in self.columns])
+        self._writer.writerow([jsonable(values[c]) for c in self.columns])
         self._file.flush()
 
     def close(self) -> None:
