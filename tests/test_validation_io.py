@@ -3,7 +3,8 @@
 import numpy as np
 import pytest
 
-from abrakit import io, validation as V
+from abrakit import io
+from abrakit import validation as V
 
 
 def test_range_checks_name_the_parameter_and_the_interval():
