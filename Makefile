@@ -29,7 +29,7 @@ bench: $(STAMP)
 	$(BIN)/python benchmarks/run.py
 
 lint: $(STAMP)
-	$(BIN)/ruff check .
+	$(BIN)/ruff check abrakit tests benchmarks examples
 
 clean:
 	rm -rf book/_build .pytest_cache
