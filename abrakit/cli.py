@@ -13,6 +13,8 @@ DEMOS = {
     "evolution": "abrakit.evolution",
     "dem": "abrakit.dem",
     "identification": "abrakit.identification",
+    "experiments": "abrakit.experiments.compression",
+    "contacting": "abrakit.experiments.contacting",
     "wear": "abrakit.wear",
     "fem": "abrakit.fem",
     "materials": "abrakit.materials",

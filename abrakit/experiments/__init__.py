@@ -1,0 +1,25 @@
+"""DEM experiments of Ch. 5.3–5.4 and 8.3: specimen genesis, compression tests, checks of the closed forms.
+
+=====================================  ==================================================================
+:mod:`.specimen`                       genesis (Ch. 5.3.1): expansion, consolidation, bonds, cached specimens
+:mod:`.compression`                    strain-controlled tests, the three measurement schemes (Fig. 5.2)
+:mod:`.closed_form_checks`             Eq. (5.20)/(5.26) against the DEM, envelopes, grain shape (Ch. 5.4)
+=====================================  ==================================================================
+"""
+
+from abrakit.experiments import contacting  # noqa: F401  (helper 4B)
+from abrakit.experiments.closed_form_checks import (  # noqa: F401
+    bond_strength_case,
+    contact_statistics,
+    elastic_case,
+    envelope_case,
+    mean_interval,
+    mohr_coulomb_fit,
+)
+from abrakit.experiments.compression import (  # noqa: F401
+    compression_test,
+    elastic_test,
+    strength_test,
+)
+from abrakit.experiments.specimen import Material, Specimen, SpecimenSpec, genesis  # noqa: F401
+from abrakit.experiments.sweeps import case_key, load_sweep, run_sweep  # noqa: F401  (helper 4B)

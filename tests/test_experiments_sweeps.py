@@ -1,0 +1,157 @@
+"""Sweeps that survive interruption (abrakit.experiments.sweeps): keys, files, resume, joblib/serial/dask agree."""
+
+from __future__ import annotations
+
+import hashlib
+import json
+import os
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from abrakit.experiments.sweeps import canonical_params, case_key, load_sweep, run_sweep
+
+
+def polynomial_case(params):
+    """A cheap case: logs each call (to count recomputations across processes) and fails on demand."""
+    log = Path(params["log"])
+    x = params["x"]
+    with open(log / "calls.txt", "a") as fh:
+        fh.write(f"{x}\n")
+    if (log / f"fail-{x}").exists():
+        raise RuntimeError(f"power cut at x = {x}")
+    return {"square": x * x, "powers": np.arange(4) * x, "half": np.float64(x) / 2}
+
+
+def calls(log: Path) -> list[float]:
+    path = log / "calls.txt"
+    return sorted(float(v) for v in path.read_text().split()) if path.exists() else []
+
+
+def sweep(log: Path, n: int = 6) -> list[dict]:
+    return [{"x": x, "log": str(log)} for x in range(n)]
+
+
+def results(records):
+    return [r["result"] for r in records]
+
+
+# --- keys ---------------------------------------------------------------------------------------------------
+
+
+def test_key_is_a_pinned_hash_of_the_canonical_json_independent_of_order():
+    params = {"b": [1, 2], "a": 1}
+    assert canonical_params(params) == '{"a":1,"b":[1,2]}'
+    expected = hashlib.sha1(b'{"a":1,"b":[1,2]}').hexdigest()[:16]
+    assert case_key(params) == expected == case_key({"a": 1, "b": [1, 2]})
+    assert case_key({"a": 1, "b": [2, 1]}) != expected
+
+
+def test_numpy_values_hash_like_python_values_and_names_prefix_the_key():
+    assert case_key({"D": np.float64(0.1), "n": np.int64(3)}) == case_key({"D": 0.1, "n": 3})
+    assert case_key({"D": np.arange(2)}) == case_key({"D": [0, 1]})
+    key = case_key({"name": "box L=8/seed 0", "x": 1})
+    assert key.startswith("box_L=8_seed_0-") and len(key.split("-")[-1]) == 10
+
+
+@pytest.mark.parametrize("bad", [[1, 2], {"x": {1, 2}}, {"x": float("nan")}, {1: 2}])
+def test_parameters_that_json_cannot_hold_are_refused(bad, tmp_path):
+    with pytest.raises(TypeError):
+        case_key(bad)
+    with pytest.raises(TypeError, match=r"params_list\[0\]"):
+        run_sweep(polynomial_case, [bad], tmp_path, backend="serial")
+
+
+def test_bad_options_are_refused(tmp_path):
+    with pytest.raises(ValueError, match="backend"):
+        run_sweep(polynomial_case, sweep(tmp_path), tmp_path, backend="mpi")
+    with pytest.raises(ValueError, match="errors"):
+        run_sweep(polynomial_case, sweep(tmp_path), tmp_path, backend="serial", errors="ignore")
+    with pytest.raises(ValueError, match="n_jobs"):
+        run_sweep(polynomial_case, sweep(tmp_path), tmp_path, n_jobs=0)
+    with pytest.raises(ValueError, match="scheduler_address"):
+        run_sweep(polynomial_case, sweep(tmp_path), tmp_path, backend="dask")
+
+
+# --- files and resume ---------------------------------------------------------------------------------------
+
+
+def test_each_case_is_a_json_file_with_params_result_and_provenance(tmp_path):
+    records = run_sweep(polynomial_case, sweep(tmp_path, 3), tmp_path / "out", backend="serial")
+    assert [r["result"]["square"] for r in records] == [0, 1, 4]
+    assert records[2]["result"]["powers"] == [0, 2, 4, 6]             # numpy arrays stored as lists
+    for params, rec in zip(sweep(tmp_path, 3), records, strict=True):
+        stored = json.loads((tmp_path / "out" / f"{case_key(params)}.json").read_text())
+        assert stored["params"] == params and stored["result"] == rec["result"]
+        assert stored["case"].endswith("polynomial_case") and stored["seconds"] >= 0 and stored["finished"]
+        assert rec["resumed"] is False
+    assert {r["key"] for r in load_sweep(tmp_path / "out")} == {r["key"] for r in records}
+
+
+def test_an_interrupted_sweep_resumes_without_recomputing_finished_cases(tmp_path):
+    log, out = tmp_path, tmp_path / "out"
+    (log / "fail-3").touch()                                           # the machine dies at the 4th case
+    with pytest.raises(RuntimeError, match="power cut"):
+        run_sweep(polynomial_case, sweep(log), out, backend="serial")
+    assert calls(log) == [0, 1, 2, 3]
+    assert len(list(out.glob("*.json"))) == 3                          # the finished cases are on disk
+    (log / "fail-3").unlink()
+    resumed = run_sweep(polynomial_case, sweep(log), out, backend="serial")
+    assert calls(log) == [0, 1, 2, 3, 3, 4, 5]                         # only the missing cases ran again
+    assert [r["resumed"] for r in resumed] == [True, True, True, False, False, False]
+    again = run_sweep(polynomial_case, sweep(log), out, backend="serial")
+    assert all(r["resumed"] for r in again) and calls(log) == [0, 1, 2, 3, 3, 4, 5]
+    fresh = run_sweep(polynomial_case, sweep(log), tmp_path / "fresh_out", backend="serial")
+    assert results(resumed) == results(again) == results(fresh)         # as if never interrupted
+
+
+def test_a_damaged_file_is_recomputed_and_duplicates_run_once(tmp_path):
+    out = tmp_path / "out"
+    params = sweep(tmp_path, 2)
+    run_sweep(polynomial_case, params, out, backend="serial")
+    (out / f"{case_key(params[1])}.json").write_text("{ not json")
+    records = run_sweep(polynomial_case, params + [params[0]], out, backend="serial")
+    assert calls(tmp_path) == [0, 1, 1]
+    assert [r["resumed"] for r in records] == [True, False, True]
+
+
+def test_recorded_failures_do_not_stop_the_sweep_and_are_retried(tmp_path):
+    (tmp_path / "fail-1").touch()
+    out = tmp_path / "out"
+    records = run_sweep(polynomial_case, sweep(tmp_path, 3), out, backend="serial", errors="record")
+    assert records[1]["result"] is None and "power cut at x = 1" in records[1]["error"]
+    assert records[2]["result"]["square"] == 4
+    failed = out / f"{case_key(sweep(tmp_path, 3)[1])}.failed.json"
+    assert failed.exists() and len(load_sweep(out)) == 2
+    (tmp_path / "fail-1").unlink()
+    records = run_sweep(polynomial_case, sweep(tmp_path, 3), out, backend="serial", errors="record")
+    assert records[1]["result"]["square"] == 1 and not failed.exists()
+    assert calls(tmp_path) == [0, 1, 1, 2]
+
+
+# --- backends -----------------------------------------------------------------------------------------------
+
+
+def test_joblib_and_serial_give_the_same_records(tmp_path):
+    serial = run_sweep(polynomial_case, sweep(tmp_path), tmp_path / "serial", backend="serial")
+    parallel = run_sweep(polynomial_case, sweep(tmp_path), tmp_path / "joblib", backend="joblib", n_jobs=2)
+    assert results(parallel) == results(serial)
+    assert [r["key"] for r in parallel] == [r["key"] for r in serial]
+    assert len({r["pid"] for r in parallel} - {os.getpid()}) >= 1       # really ran in worker processes
+    assert calls(tmp_path) == sorted(2 * list(range(6)))
+
+
+def test_dask_local_cluster_runs_and_resumes_the_same_sweep(tmp_path):
+    distributed = pytest.importorskip("distributed")
+    serial = run_sweep(polynomial_case, sweep(tmp_path, 4), tmp_path / "serial", backend="serial")
+    with distributed.LocalCluster(n_workers=1, threads_per_worker=1, processes=False,
+                                  dashboard_address=None) as cluster:
+        on_cluster = run_sweep(polynomial_case, sweep(tmp_path, 4), tmp_path / "dask",
+                               scheduler_address=cluster.scheduler_address)       # backend chosen: dask
+        assert results(on_cluster) == results(serial)
+        with distributed.Client(cluster) as client:                                # a Client works too
+            again = run_sweep(polynomial_case, sweep(tmp_path, 5), tmp_path / "dask", backend="dask",
+                              scheduler_address=client)
+    assert [r["resumed"] for r in again] == [True] * 4 + [False]
+    assert calls(tmp_path) == sorted(2 * list(range(4)) + [4])
