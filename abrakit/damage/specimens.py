@@ -121,23 +121,8 @@ def plate_with_hole_mesh(n_angular: int, n_radial: int, *, width: float = 50.0, 
     theta = (np.pi / 2) * meshes.graded(n_angular, angular_grading)
     k = int(np.clip(np.argmin(np.abs(theta - corner)), 1, n_angular - 1))
     theta[k] = corner  # the corner must be a ray: the outer boundary kinks there
-    s = meshes.graded(int(check_range("n_radial", n_radial, 1, None)), radial_grading)
-    mesh = skfem.MeshQuad.init_tensor(s, np.arange(theta.size, dtype=float))
-    S, idx = mesh.p
-    th = theta[np.rint(idx).astype(int)]
-    inner = radius * np.stack((np.cos(th), np.sin(th)))
-    outer = np.where(th <= corner + 1e-14,
-                     np.stack((np.full_like(th, width), width * np.tan(th))),
-                     np.stack((height / np.tan(np.maximum(th, 1e-300)), np.full_like(th, height))))
-    outer[0, np.isclose(th, np.pi / 2)] = 0.0
-    mesh = skfem.MeshQuad(inner + S * (outer - inner), mesh.t)
-    return mesh.with_boundaries({
-        "hole": lambda x: np.hypot(x[0], x[1]) < radius * (1 + _TOL),
-        "left": lambda x: x[0] < _TOL * width,
-        "bottom": lambda x: x[1] < _TOL * height,
-        "right": lambda x: x[0] > width * (1 - _TOL),
-        "top": lambda x: x[1] > height * (1 - _TOL),
-    })
+    return meshes.plate_with_hole(width, height, radius, n_radial=int(check_range("n_radial", n_radial, 1, None)),
+                                  grading=radial_grading, angles=theta)
 
 
 def sharp_notch_mesh(n_x: int, n_y: int, *, width: float = 50.0, height: float = 40.0, notch: float = 25.0,

@@ -59,19 +59,29 @@ def _tag(mesh, **boundaries):
 
 
 def plate_with_hole(width: float = 50.0, height: float = 50.0, radius: float = 10.0, n_angular: int = 16,
-                    n_radial: int = 12, grading: float = 4.0, triangles: bool = False):
+                    n_radial: int = 12, grading: float = 4.0, triangles: bool = False, angles=None):
     """Quarter of a plate with a central hole: [0, width] x [0, height] minus the disc of ``radius`` at 0.
 
     Defaults (seed Fig. 7.1 missing): plate 100 x 100 mm, hole diameter 20 mm, i.e. the quarter 50 x 50 mm.
     Rays from the hole to the outer edges with ``n_angular`` elements around the quarter hole and
     ``n_radial`` elements along each ray, ``grading`` = outer / inner radial element size.
+    ``angles`` (optional) are the ray angles from 0 to pi/2 including the corner ray atan2(height, width),
+    e.g. graded towards a ligament; by default ``n_angular`` uniform steps on each side of the corner.
     Boundaries: ``hole``, ``left`` (x = 0, symmetry), ``bottom`` (y = 0, symmetry), ``right``, ``top``.
     """
     width, height = check_positive("width", width), check_positive("height", height)
     radius = check_range("radius", radius, 0.0, min(width, height), low_open=True, high_open=True)
     corner = np.arctan2(height, width)
-    n1 = int(np.clip(round(n_angular * corner / (np.pi / 2)), 1, n_angular - 1))
-    theta = np.concatenate((np.linspace(0, corner, n1 + 1), np.linspace(corner, np.pi / 2, n_angular - n1 + 1)[1:]))
+    if angles is None:
+        n1 = int(np.clip(round(n_angular * corner / (np.pi / 2)), 1, n_angular - 1))
+        theta = np.concatenate((np.linspace(0, corner, n1 + 1),
+                                np.linspace(corner, np.pi / 2, n_angular - n1 + 1)[1:]))
+    else:
+        theta = np.asarray(angles, dtype=float)
+        if theta.ndim != 1 or not np.isclose(theta[0], 0.0) or not np.isclose(theta[-1], np.pi / 2) \
+                or np.any(np.diff(theta) <= 0) \
+                or not np.any(np.isclose(theta, corner, rtol=0.0, atol=1e-14)):
+            raise ValueError("angles must increase from 0 to pi/2 and contain the corner ray atan2(height, width)")
     s = graded(n_radial, grading)
     mesh = skfem.MeshQuad.init_tensor(s, np.arange(theta.size, dtype=float))
     S, k = mesh.p
