@@ -23,6 +23,7 @@ DEMOS = {
     "model_one": "abrakit.damage.model_one_fe",
     "model_two": "abrakit.damage.model_two_fe",
     "scratch": "abrakit.scratch",
+    "scratch_scene": "abrakit.scratch.scene",
 }
 
 

@@ -1,0 +1,916 @@
+"""The single scratch test of Sec. 8.2.1 as a 3D finite element scene: specimen, mesh, path, run, groove.
+
+The seed's set-up (Fig. 8.1–8.3, Table 8.1/8.2), in the axes of :mod:`abrakit.scratch.indenters`:
+
+* specimen: a 200 × 100 × 15 µm block of St-52 (length 200 µm along the scratch z, width 100 µm across it along
+  x, thickness 15 µm along y), top face y = 0; the half model x ≥ 0 with the symmetry plane x = 0 (u_x = 0
+  there, "the displacement along the x-axis is zero on the symmetry plane"); "the other surfaces of the specimen
+  are fixed": u = 0 on x = 50 µm, on the bottom y = −15 µm and on both ends z = 0, 200 µm. The top face is free
+  except for the contact;
+* mesh: trilinear hexahedra (the seed's C3D8) on a tensor grid with the three zones of Fig. 8.3 — an
+  *effective* zone of uniform fine elements under the whole scratch (its footprint plus a margin), an
+  *intermediate* zone whose element sizes grow geometrically, and the *coarse* far field they grow into;
+* material: St-52 with linear hardening (:data:`ST52`, Fig. 8.4 approximated linearly as the seed does), or
+  Model II (ERVE damage, Table 8.2) on top of it with ``damage=True``; elastic for the verifications;
+* contact: the rigid analytic tip with penalty contact and Coulomb friction, μ = 0.1
+  (:class:`~abrakit.scratch.contact_term.IndenterContact`), penalty c_N = factor · E / h_y with h_y the top
+  element layer (the seed: "the minimum of the master and slave surface stiffness", scaling factor 1);
+* path: "a displacement-control loading ... in two steps": indent to d, slide along +z at constant depth, and
+  here optionally lift the tip again so the groove is read both with the tip in contact and after unloading.
+
+:func:`run_scratch` writes the force curves (``forces.csv``) and fields (``fields/step.pvd``) as it goes and
+extracts the groove cross-section at mid-length — with the tip in contact (the apex at mid-length, the section
+through it) and after unloading — with :func:`~abrakit.scratch.groove.groove_metrics`: A_g, A_s, w, f_ab
+(Eq. 8.5), D_p (Eq. 8.6), regime, and the removed (fully damaged) material.
+
+Speed (profiled with pyinstrument): the half model, grading, nodal contact (no new matrix couplings), a sparse
+LU in a geometric nested-dissection order (5–9× faster than SuperLU's own orderings on these tensor grids; a
+stale factorisation as GMRES preconditioner did not pay, since plastic points switching between elastic and
+plastic change the tangent too much between iterations; an AMG-preconditioned GMRES with a reused hierarchy is
+the option for large meshes), a backtracking line search that keeps Newton from cycling across the kinks of
+contact and plasticity (fewer cut-backs), and Model II's damage sweep skips every point whose driving force is
+below the threshold (Φ_d < 0). Units: N, mm, MPa (µm values written as mm).
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from dataclasses import dataclass, field, replace
+from pathlib import Path
+from typing import NamedTuple
+
+import numpy as np
+import scipy.sparse as sp
+import scipy.sparse.linalg as spla
+import skfem
+
+from abrakit.fem import Dirichlet, LinearSolveError, NewtonOptions, Solver, StepControl, vector_basis
+from abrakit.fem.linsolve import DirectSolver, rigid_body_modes
+from abrakit.fem.output import cell_fields, meshio_cells
+from abrakit.io import CurveWriter, VtuSeries, write_json
+from abrakit.materials import LinearElastic, ModelIIDamage, VonMisesPlasticity
+from abrakit.scratch.contact import penalty_from_stiffness
+from abrakit.scratch.contact_term import ContactForces, IndenterContact
+from abrakit.scratch.groove import (
+    GrooveMetrics,
+    Profile,
+    RemovedMaterial,
+    groove_metrics,
+    profile_from_surface_nodes,
+    removed_material,
+)
+from abrakit.scratch.hertz import hertz_sphere
+from abrakit.scratch.indenters import ConicalIndenter, FineZone, ScratchPath, SphericalIndenter, check_path
+from abrakit.validation import check_option, check_positive, check_range
+
+__all__ = [
+    "GrooveBalance",
+    "HertzCheck",
+    "LineSearchSolver",
+    "MESH_LEVELS",
+    "ReusedPreconditioner",
+    "SPECIMEN",
+    "ST52",
+    "TABLE_8_2",
+    "ScratchResult",
+    "ScratchScene",
+    "Specimen",
+    "SpecimenMesh",
+    "build_specimen",
+    "demo",
+    "groove_balance",
+    "hertz_indentation",
+    "nested_dissection",
+    "run_scratch",
+    "st52_material",
+    "zoned_axis",
+]
+
+SPECIMEN = (0.1, 0.015, 0.2)
+"""The seed's block, mm: full width (x), thickness (y), length along the scratch (z) = 100 × 15 × 200 µm."""
+
+ST52 = {"E": 210000.0, "nu": 0.33, "yield_stress": 355.0, "hardening": 1000.0}
+"""St-52 (Table 8.1; Fig. 8.4 approximated linearly): E, ν, uniaxial yield stress σ_0 and linear hardening slope
+H = dσ/dε_p, MPa.
+
+Fig. 8.4 (Ribeiro et al. 2016) is missing from the text, so the numbers are ours: σ_0 = 355 MPa is St-52's
+(S355's) nominal yield strength, and H = 1000 MPa is the straight line from it to ≈ 855 MPa true stress at 0.5
+true strain, the range of a true stress–strain curve of this steel. In the model of Ch. 6 (yield function
+|dev σ| − (r_p + K_H α_p)) this is r_p = σ_0/√1.5 = 289.9 MPa and K_H = H/1.5 = 666.7 MPa."""
+
+TABLE_8_2 = {"E": 210000.0, "nu": 0.33, "r_d": 0.1, "n": 20, "dt": 1.0, "alpha": 0.05}
+"""Model II parameters of the scratch, Table 8.2 (MPa, s; α printed in 1/s)."""
+
+END_CLEARANCE = 0.01
+"""Least distance (mm) between the fine zone and the fixed end faces z = 0, L: room for the intermediate zone."""
+
+
+def st52_material(kind: str = "plastic", damage: bool = False, damage_energy: str = "full"):
+    """The specimen's material: ``"plastic"`` (St-52 with linear hardening, :data:`ST52`) or ``"elastic"``;
+    ``damage=True`` wraps it in Model II with Table 8.2 (``damage_energy`` "full" or "tension", Eq. 6.56)."""
+    check_option("kind", kind, ("plastic", "elastic"))
+    E, nu = ST52["E"], ST52["nu"]
+    r_p = ST52["yield_stress"] / math.sqrt(1.5) if kind == "plastic" else None
+    K_H = ST52["hardening"] / 1.5 if kind == "plastic" else 0.0
+    if damage:
+        p = TABLE_8_2
+        return ModelIIDamage(p["E"], p["nu"], p["r_d"], n=p["n"], alpha=p["alpha"], dt=p["dt"], r_p=r_p, K_H=K_H,
+                             integration="implicit", damage_energy=damage_energy)
+    if kind == "elastic":
+        return LinearElastic(E, nu)
+    return VonMisesPlasticity(E, nu, r_p, K_H, integration="implicit")
+
+
+# ---- mesh: the zones of Fig. 8.3 --------------------------------------------------------------------------------
+
+
+def _growing(length: float, h: float, growth: float) -> np.ndarray:
+    """Element sizes that start at about ``h`` (times ``growth``) and grow by ``growth`` to fill ``length``."""
+    if length <= 1e-12:
+        return np.zeros(0)
+    if growth == 1.0:
+        n = max(1, round(length / h))
+        return np.full(n, length / n)
+    sizes = [h * growth]
+    while sum(sizes) < length:
+        sizes.append(sizes[-1] * growth)
+    sizes = np.array(sizes)
+    if len(sizes) > 1 and sizes.sum() - length > 0.5 * sizes[-1]:
+        sizes = sizes[:-1]                                   # drop the overshoot, stretch the rest
+    return sizes * (length / sizes.sum())
+
+
+def zoned_axis(lo: float, hi: float, fine_lo: float, fine_hi: float, h: float, growth: float) -> np.ndarray:
+    """Node coordinates on [lo, hi]: uniform elements of about ``h`` on [fine_lo, fine_hi] (the effective zone),
+    sizes growing geometrically by ``growth`` towards both ends (intermediate and coarse zones of Fig. 8.3)."""
+    check_range("fine_lo", fine_lo, lo, fine_hi)
+    check_range("fine_hi", fine_hi, fine_lo, hi)
+    check_positive("h", h)
+    check_range("growth", growth, 1.0, None)
+    n_fine = max(1, math.ceil((fine_hi - fine_lo) / h - 1e-9))
+    fine = np.linspace(fine_lo, fine_hi, n_fine + 1)
+    step = (fine_hi - fine_lo) / n_fine
+    left = fine_lo - np.cumsum(_growing(fine_lo - lo, step, growth))
+    right = fine_hi + np.cumsum(_growing(hi - fine_hi, step, growth))
+    axis = np.concatenate([left[::-1], fine, right])
+    axis[0], axis[-1] = lo, hi
+    return np.unique(np.round(axis, 12))
+
+
+@dataclass(frozen=True)
+class SpecimenMesh:
+    """Element sizes and zones of the graded specimen mesh (mm; the zones of Fig. 8.3).
+
+    h: fine element size across the groove (x); h_z: along the scratch (default 2 h); h_y: thickness of the top
+    element layers (default h/2); growth: size ratio of neighbouring elements outside the fine zone;
+    width: half-width of the fine zone in footprint radii a of the tip at the scratch depth (shoulders included);
+    fine_depth: depth of the uniform top layers in units of the scratch depth (at least two layers);
+    margin: extra fine elements (in h_z) before and after the footprint's path; fine_z: an explicit
+    (z_min, z_max) of the fine zone instead of the one that fits the path (a scratch leaving it is refused).
+    """
+
+    h: float = 0.0015
+    h_z: float | None = None
+    h_y: float | None = None
+    growth: float = 1.35
+    width: float = 2.0
+    fine_depth: float = 1.5
+    margin: float = 2.0
+    fine_z: tuple[float, float] | None = None
+
+    def __post_init__(self):
+        check_positive("h", self.h)
+        for name in ("h_z", "h_y"):
+            if getattr(self, name) is not None:
+                check_positive(name, getattr(self, name))
+        check_range("growth", self.growth, 1.0, 3.0)
+        check_positive("width", self.width)
+        check_positive("fine_depth", self.fine_depth)
+        check_positive("margin", self.margin, allow_zero=True)
+
+    @property
+    def size_z(self) -> float:
+        return 2.0 * self.h if self.h_z is None else self.h_z
+
+    @property
+    def size_y(self) -> float:
+        return 0.5 * self.h if self.h_y is None else self.h_y
+
+
+MESH_LEVELS = {
+    "demo": SpecimenMesh(h=0.004, h_z=0.006, h_y=0.001, growth=1.6, width=1.6),
+    "coarse": SpecimenMesh(h=0.003, h_z=0.005, h_y=0.001, growth=1.5),
+    "default": SpecimenMesh(h=0.002, h_z=0.004, h_y=0.00075, growth=1.45),
+    "fine": SpecimenMesh(h=0.0015, h_z=0.004, h_y=0.0006, growth=1.4),
+    "finer": SpecimenMesh(h=0.001, h_z=0.003, h_y=0.0004, growth=1.35),
+}
+"""Mesh levels used by the demo, the tests, the benchmark and the book (``"default"`` for the seed's scene)."""
+
+
+# ---- the scene --------------------------------------------------------------------------------------------------
+
+
+@dataclass(frozen=True)
+class ScratchScene:
+    """One single scratch (Sec. 8.2.1): tip, path, friction, penalty, material, mesh and specimen.
+
+    indenter: the rigid tip (default the seed's sphere R = 50 µm); depth d and slide length (mm), the seed's
+    default 2 µm and 100 µm; unload: lift the tip at the end (groove after unloading); z_start: apex position
+    at the start of the slide (default: the slide centred on the block); clearance: height of the apex above
+    the surface at the start (≥ 0: a tip starting inside the block is refused); mu: Coulomb coefficient (0.1);
+    penalty: factor of c_N = factor · E / h_y (1, the seed's default scaling); material: "plastic" (St-52) or
+    "elastic"; damage: Model II (Table 8.2) on top; damage_rate: how Model II's rate limit is fed, "step"
+    (Table 8.2 prints α in 1/s with Δt = 1 s: every increment may add α Δt = 0.05 to a sub-domain) or "work"
+    (Eq. 6.97: α times the work of the tip on the half model in the increment, α in 1/(N mm) as in Table 7.2);
+    mesh: a :class:`SpecimenMesh` or a level name of :data:`MESH_LEVELS`; size: the block (full width, thickness,
+    length), mm; indent_steps, unload_steps: load increments of the two vertical phases; slide_step: apex
+    advance per sliding increment (default h_z/4), mm.
+    """
+
+    indenter: SphericalIndenter | ConicalIndenter = SphericalIndenter(0.05)
+    depth: float = 0.002
+    slide: float = 0.1
+    unload: bool = True
+    z_start: float | None = None
+    clearance: float = 0.0
+    mu: float = 0.1
+    penalty: float = 1.0
+    material: str = "plastic"
+    damage: bool = False
+    damage_rate: str = "step"
+    damage_energy: str = "full"
+    mesh: SpecimenMesh | str = "default"
+    size: tuple[float, float, float] = SPECIMEN
+    indent_steps: int = 20
+    unload_steps: int = 5
+    slide_step: float | None = None
+
+    def __post_init__(self):
+        check_positive("depth", self.depth)
+        check_positive("slide", self.slide, allow_zero=True)
+        check_positive("mu", self.mu, allow_zero=True)
+        check_positive("penalty", self.penalty)
+        check_option("material", self.material, ("plastic", "elastic"))
+        check_option("damage_rate", self.damage_rate, ("step", "work"))
+        check_option("damage_energy", self.damage_energy, ("full", "tension"))
+        if isinstance(self.mesh, str):
+            check_option("mesh", self.mesh, tuple(MESH_LEVELS))
+        check_positive("size", self.size)
+        check_range("indent_steps", self.indent_steps, 1, None)
+        check_range("unload_steps", self.unload_steps, 1, None)
+        if self.slide_step is not None:
+            check_positive("slide_step", self.slide_step)
+        _ = self.path                               # a path the indenter cannot follow is refused here
+        if self.depth >= self.size[1]:
+            raise ValueError(f"depth {self.depth:g} mm must be smaller than the block's thickness {self.size[1]:g} mm")
+
+    @property
+    def mesh_spec(self) -> SpecimenMesh:
+        return MESH_LEVELS[self.mesh] if isinstance(self.mesh, str) else self.mesh
+
+    @property
+    def footprint(self) -> float:
+        """Geometric footprint radius a of the tip at the scratch depth, mm."""
+        return float(self.indenter.footprint_radius(self.depth))
+
+    @property
+    def path(self) -> ScratchPath:
+        z0 = 0.5 * (self.size[2] - self.slide) if self.z_start is None else self.z_start
+        return ScratchPath(depth=self.depth, slide=self.slide, z_start=z0, clearance=self.clearance,
+                           unload=self.unload)
+
+    @property
+    def z_section(self) -> float:
+        """Mid-length of the scratch, where the groove's cross-section is read, mm."""
+        return self.path.z_start + 0.5 * self.slide
+
+    def with_(self, **changes) -> ScratchScene:
+        return replace(self, **changes)
+
+
+class Specimen(NamedTuple):
+    """The meshed half block: mesh, displacement basis, fine zone, boundary conditions, top layer thickness."""
+
+    mesh: skfem.MeshHex
+    basis: skfem.CellBasis
+    fine_zone: FineZone
+    conditions: list
+    top_layer: float
+
+
+def build_specimen(scene: ScratchScene) -> Specimen:
+    """Graded half block of ``scene`` with its boundary conditions; refuses a scratch that leaves the fine zone.
+
+    The fine zone covers the contact footprint along the whole path plus ``margin`` elements; it must keep
+    :data:`END_CLEARANCE` from the fixed ends, else (or if an explicit ``fine_z`` is too short) the scratch is
+    refused with the message of :func:`~abrakit.scratch.check_path`.
+    """
+    spec, path = scene.mesh_spec, scene.path
+    width, thickness, length = scene.size
+    half = 0.5 * width
+    a = scene.footprint
+    if spec.fine_z is not None:
+        z_lo, z_hi = spec.fine_z
+    else:
+        z_lo = max(path.z_start - a - spec.margin * spec.size_z, min(END_CLEARANCE, 0.25 * length))
+        z_hi = min(path.z_end + a + spec.margin * spec.size_z, length - min(END_CLEARANCE, 0.25 * length))
+    x_fine = min(max(spec.width * a, 3 * spec.h), 0.9 * half)
+    y_fine = min(max(spec.fine_depth * scene.depth, 2 * spec.size_y), 0.5 * thickness)
+    zone = FineZone(z_lo, z_hi, x_max=x_fine, depth=y_fine)
+    if not 0.0 <= z_lo < z_hi <= length:
+        raise ValueError(f"the fine zone ({z_lo:g}, {z_hi:g}) mm must lie inside the block's length {length:g} mm")
+    check_path(path, zone, scene.indenter)                               # refuses leaving the fine zone
+
+    xs = zoned_axis(0.0, half, 0.0, x_fine, spec.h, spec.growth)
+    ys = zoned_axis(-thickness, 0.0, -y_fine, 0.0, spec.size_y, spec.growth)
+    zs = zoned_axis(0.0, length, z_lo, z_hi, spec.size_z, spec.growth)
+    mesh = skfem.MeshHex.init_tensor(xs, ys, zs)
+    tol = 1e-9 * length
+    mesh = mesh.with_boundaries({
+        "symmetry": lambda x: x[0] < tol,
+        "side": lambda x: x[0] > half - tol,
+        "bottom": lambda x: x[1] < -thickness + tol,
+        "top": lambda x: x[1] > -tol,
+        "front": lambda x: x[2] < tol,
+        "back": lambda x: x[2] > length - tol,
+    })
+    basis = vector_basis(mesh)
+    conditions = [Dirichlet.on(basis, "symmetry", "x")] + [
+        Dirichlet.on(basis, face, "xyz") for face in ("side", "bottom", "front", "back")]
+    return Specimen(mesh, basis, zone, conditions, float(ys[-1] - ys[-2]))
+
+
+# ---- linear solver with a reused preconditioner ----------------------------------------------------------------
+
+
+def nested_dissection(points: np.ndarray, leaf: int = 192) -> np.ndarray:
+    """Fill-reducing order of the DOFs at ``points`` (dim, n) of a tensor-product mesh: geometric nested dissection.
+
+    The DOF set is split recursively at the middle grid plane of its longest index extent; both halves are
+    ordered first (recursively), the plane (the separator) last. On the tensor grids of the scratch this gives
+    far less fill than SuperLU's minimum-degree orderings (about 5× faster factorisations on the scene's tangent).
+    """
+    index = np.stack([np.unique(np.round(c, 12), return_inverse=True)[1] for c in points], axis=1)
+    order: list[np.ndarray] = []
+
+    def dissect(items, depth=0):
+        if items.size <= leaf or depth > 60:
+            order.append(items)
+            return
+        g = index[items]
+        lo, extent = g.min(axis=0), np.ptp(g, axis=0)
+        axis = int(np.argmax(extent))
+        if extent[axis] < 2:
+            order.append(items)
+            return
+        mid = lo[axis] + extent[axis] // 2
+        dissect(items[g[:, axis] < mid], depth + 1)
+        dissect(items[g[:, axis] > mid], depth + 1)
+        order.append(items[g[:, axis] == mid])
+
+    dissect(np.arange(index.shape[0]))
+    return np.concatenate(order)
+
+
+class ReusedPreconditioner:
+    """GMRES on the current tangent K, preconditioned by a factorisation of an *earlier* tangent, kept across
+    Newton iterations and load steps.
+
+    The tangent of a scratch changes only near the tip (contact blocks, plastic points), so a sparse LU of an
+    earlier tangent (``kind="lu"``, SuperLU in the nested-dissection ``order`` with diagonal pivots, falling
+    back to SuperLU's own ordering and pivoting if a pivot vanishes) or a smoothed-aggregation AMG hierarchy
+    (``kind="amg"``, pyamg, on the symmetric part of K with the rigid-body modes as near-null space) stays a good
+    preconditioner: GMRES needs a few iterations per Newton correction and Newton keeps its quadratic
+    convergence, at the price of one factorisation every few corrections. The factorisation is redone when
+    GMRES needs more than ``rebuild_after`` iterations, or fails. GMRES always sees K itself (the contact tangent
+    is non-symmetric in slip).
+
+    Measured on the scratch (pyinstrument, "default" mesh, 24 000 DOFs): plastic points switching between
+    elastic and plastic change the tangent so much from one Newton iteration to the next that a stale LU needs
+    25–30 GMRES iterations, as costly as a new factorisation in the nested-dissection order (0.4 s); so
+    ``rebuild_after=0`` (the default for LU: a fresh factorisation for every correction, GMRES then takes one
+    iteration) is the fastest choice, and reuse pays only for the AMG hierarchy.
+    """
+
+    def __init__(self, kind: str = "lu", *, order: np.ndarray | None = None, near_null_space=None,
+                 rtol: float = 1e-9, rebuild_after: int | None = None, maxiter: int = 300):
+        self.kind = check_option("kind", kind, ("lu", "amg"))
+        self.name = f"gmres+reused-{kind}"
+        self.order = order
+        self.near_null_space = near_null_space
+        self.rtol = rtol
+        self.rebuild_after = (0 if kind == "lu" else 12) if rebuild_after is None else rebuild_after
+        self.maxiter = maxiter
+        self._M = None
+        self.builds = 0
+        self.build_time = 0.0
+        self.iterations: list[int] = []
+
+    def _factorise(self, K):
+        if self.order is not None:
+            p = self.order
+            try:
+                lu = spla.splu(sp.csc_matrix(K[p][:, p]), permc_spec="NATURAL", diag_pivot_thresh=0.0,
+                               options={"SymmetricMode": True})
+
+                def solve(b):
+                    x = np.empty_like(b)
+                    x[p] = lu.solve(b[p])
+                    return x
+
+                return solve
+            except RuntimeError:
+                pass                                          # a zero pivot: let SuperLU order and pivot
+        try:
+            return spla.splu(sp.csc_matrix(K), permc_spec="MMD_AT_PLUS_A").solve
+        except RuntimeError as exc:
+            raise LinearSolveError(f"sparse LU failed: {exc}") from exc
+
+    def _build(self, K):
+        t0 = time.perf_counter()
+        if self.kind == "lu":
+            self._M = spla.LinearOperator(K.shape, matvec=self._factorise(K), dtype=float)
+        else:
+            import pyamg
+
+            sym = sp.csr_matrix(0.5 * (K + K.T))
+            ml = pyamg.smoothed_aggregation_solver(sym, B=self.near_null_space, symmetry="symmetric",
+                                                   max_coarse=500)
+            self._M = ml.aspreconditioner(cycle="V")
+        self.builds += 1
+        self.build_time += time.perf_counter() - t0
+
+    def solve(self, K: sp.csr_matrix, rhs: np.ndarray, new_step: bool = True) -> np.ndarray:
+        for attempt in range(2):
+            fresh = self._M is None or attempt == 1 or self.rebuild_after == 0
+            if fresh:
+                self._build(K)
+            count = [0]
+
+            def callback(_, count=count):
+                count[0] += 1
+
+            x, info = spla.gmres(K, rhs, rtol=self.rtol, atol=0.0, restart=50, maxiter=self.maxiter // 50 + 1,
+                                 M=self._M, callback=callback, callback_type="pr_norm")
+            self.iterations.append(count[0])
+            if info == 0 and np.all(np.isfinite(x)):
+                if count[0] > self.rebuild_after:
+                    self._M = None                                     # refactorise before the next solve
+                return x
+            if fresh and attempt == 1:
+                break
+        raise LinearSolveError(f"GMRES with a fresh {self.kind} preconditioner did not converge")
+
+
+# ---- Newton with a backtracking line search ---------------------------------------------------------------------
+
+
+class LineSearchSolver(Solver):
+    """:class:`abrakit.fem.Solver` whose Newton corrections are damped by a backtracking line search.
+
+    Penalty contact (open/closed, stick/slip) and plasticity (elastic/plastic) make the residual only piecewise
+    smooth; a full Newton step can jump across a kink and the iteration then cycles between two sets of active
+    points. The correction du is therefore accepted only if it lowers the Euclidean norm of the free residual,
+    ||R(u + s du)|| ≤ (1 − 10⁻⁴ s) ||R(u)||; otherwise s is halved (at most ``max_backtracks`` times) and the
+    step with the smallest residual is taken. The trial evaluation of an accepted step is cached and reused as
+    the next iteration's evaluation, so an undamped Newton iteration costs nothing extra.
+
+    Composition only: the solver's own Newton loop and convergence test are unchanged; this class overrides its
+    ``evaluate`` (to cache) and ``_correction`` (to scale du).
+    """
+
+    max_backtracks = 4
+    growth_allowed = 1.0
+
+    def evaluate(self, u, state_old, ctx):
+        cache = getattr(self, "_cache", None)
+        key = (ctx.load_factor, ctx.delta, id(state_old))
+        if cache is not None and cache[0] == key and np.array_equal(cache[1], u):
+            for term, pending in zip(self.extra_terms, cache[3], strict=True):
+                if hasattr(term, "_pending"):
+                    term._pending = pending
+            return cache[2]
+        self._last = (u.copy(), state_old, ctx, key)
+        return super().evaluate(u, state_old, ctx)
+
+    def _free_norm(self, residual):
+        return float(np.linalg.norm(residual[self.constraints.free]))
+
+    def _correction(self, response, extra_K, residual, new_step: bool) -> np.ndarray:
+        du = super()._correction(response, extra_K, residual, new_step)
+        u, state_old, ctx, key = self._last
+        free = self.constraints.free
+        norm0 = self._free_norm(residual)
+        best = None
+        s = 1.0
+        for _ in range(self.max_backtracks + 1):
+            trial = u.copy()
+            trial[free] += s * du
+            try:
+                with np.errstate(all="ignore"):
+                    evaluation = Solver.evaluate(self, trial, state_old, replace(ctx, u=trial))
+                norm = self._free_norm(evaluation[1])
+            except (ArithmeticError, ValueError, np.linalg.LinAlgError):
+                norm, evaluation = np.inf, None
+            if not np.isfinite(norm):
+                norm = np.inf
+            pendings = [getattr(term, "_pending", None) for term in self.extra_terms]
+            if best is None or norm < best[0]:
+                best = (norm, s, trial, evaluation, pendings)
+            if norm <= (self.growth_allowed if s == 1.0 else 1.0 - 1e-4 * s) * norm0:
+                break
+            s *= 0.5
+        norm, s, trial, evaluation, pendings = best
+        if evaluation is not None:
+            self._cache = (key, trial, evaluation, pendings)
+        return s * du
+
+
+# ---- running a scene --------------------------------------------------------------------------------------------
+
+
+@dataclass
+class ScratchResult:
+    """What a scratch run gives (forces for the whole grain; lengths mm, areas mm², forces N, times s).
+
+    curves: the force curves, one entry per converged increment (also in ``forces.csv``): ``tau`` (pseudo-time
+    of :class:`~abrakit.scratch.ScratchPath`), ``tip_y``, ``tip_z``, ``slide`` (apex travel along z),
+    ``normal_force``, ``tangential_force``, ``contact_area``, ``max_penetration``, ``iterations``;
+    groove_loaded / groove_unloaded: :class:`~abrakit.scratch.groove.GrooveMetrics` of the mid-length section
+    with the apex there / after unloading (None when not computed; ``notes`` say why), with their profiles;
+    removed: :class:`~abrakit.scratch.groove.RemovedMaterial` near mid-length (damage runs), None otherwise;
+    mean_normal_force / mean_tangential_force: means over the steady part of the slide (after one footprint
+    diameter of travel); u, state: the final displacement and material state.
+    """
+
+    scene: ScratchScene
+    curves: dict
+    groove_loaded: GrooveMetrics | None
+    groove_unloaded: GrooveMetrics | None
+    profile_loaded: Profile | None
+    profile_unloaded: Profile | None
+    removed: RemovedMaterial | None
+    mean_normal_force: float
+    mean_tangential_force: float
+    n_elements: int
+    n_dofs: int
+    wall_time: float
+    increments: int
+    newton_iterations: int
+    cutbacks: int
+    linear_solver: str
+    u: np.ndarray
+    state: dict
+    specimen: Specimen
+    contact: IndenterContact
+    output: Path | None = None
+    notes: list = field(default_factory=list)
+
+    def summary(self) -> dict:
+        """JSON-ready numbers of the run (µm and µm² for lengths and areas, N for forces)."""
+        def metrics(g):
+            if g is None:
+                return None
+            return {"A_g_um2": g.groove_area * 1e6, "A_s_um2": g.shoulder_area * 1e6, "w_um": g.width * 1e3,
+                    "depth_um": g.depth * 1e3, "f_ab": g.degree_of_wear, "D_p": g.degree_of_penetration,
+                    "regime": g.regime, "shoulder_height_um": g.shoulder_height * 1e3}
+
+        s = self.scene
+        out = {
+            "indenter": type(s.indenter).__name__, "R_um": s.indenter.radius * 1e3, "d_um": s.depth * 1e3,
+            "slide_um": s.slide * 1e3, "mu": s.mu, "penalty": s.penalty, "material": s.material,
+            "damage": s.damage, "elements": self.n_elements, "dofs": self.n_dofs, "increments": self.increments,
+            "newton_iterations": self.newton_iterations, "cutbacks": self.cutbacks, "wall_time_s": self.wall_time,
+            "linear_solver": self.linear_solver, "mean_normal_force_N": self.mean_normal_force,
+            "mean_tangential_force_N": self.mean_tangential_force,
+            "max_normal_force_N": float(np.max(self.curves["normal_force"], initial=0.0)),
+            "groove_loaded": metrics(self.groove_loaded), "groove_unloaded": metrics(self.groove_unloaded),
+            "notes": list(self.notes),
+        }
+        if self.removed is not None:
+            out["removed_volume_um3"] = self.removed.volume * 1e9
+            out["removed_area_um2"] = None if self.removed.area is None else self.removed.area * 1e6
+            out["removed_elements"] = self.removed.count
+        return out
+
+
+CURVE_COLUMNS = ("step", "tau", "phase", "tip_y", "tip_z", "slide", "normal_force", "tangential_force",
+                 "contact_area", "max_penetration", "closed_nodes", "slipping_nodes", "iterations", "wall_time")
+PHASES = {"indentation": 0, "scratching": 1, "unloading": 2}
+
+
+def _segments(scene: ScratchScene, spec: SpecimenMesh):
+    """Pseudo-time segments (start, end, increment): indentation, the slide's two halves, unloading."""
+    slide_step = scene.slide_step if scene.slide_step is not None else 0.25 * spec.size_z
+    segments = [(0.0, 1.0, 1.0 / scene.indent_steps)]
+    if scene.slide > 0.0:
+        dtau = min(0.5, slide_step / scene.slide)
+        segments += [(1.0, 1.5, dtau), (1.5, 2.0, dtau)]
+    if scene.unload:
+        if scene.slide == 0.0:
+            segments.append((1.0, 2.0, 1.0))                 # nothing moves: one idle increment
+        segments.append((2.0, 3.0, 1.0 / scene.unload_steps))
+    return segments
+
+
+def _section(specimen, u, z, depth, tol):
+    """Groove metrics of the spatial section at z (half profile), or (None, profile, reason)."""
+    mesh = specimen.mesh
+    disp = u[np.asarray(specimen.basis.nodal_dofs)].T
+    profile = profile_from_surface_nodes(mesh.p.T, disp, z)
+    try:
+        return groove_metrics(profile.x, profile.y, half=True, depth=depth, tol=tol), profile, None
+    except ValueError as exc:
+        return None, profile, str(exc)
+
+
+def run_scratch(scene: ScratchScene = ScratchScene(), *, output=None, progress: bool = False, vtu_every: int = 10,
+                linear_solver: str = "auto", newton: NewtonOptions | None = None) -> ScratchResult:
+    """Run the single scratch ``scene``; write ``forces.csv``, ``fields/step.pvd`` and ``summary.json`` to
+    ``output`` (if given) as it goes; return a :class:`ScratchResult`.
+
+    ``linear_solver``: "lu" (SuperLU in the :func:`nested_dissection` order, a fresh factorisation per Newton
+    correction), "amg" (GMRES with a reused AMG hierarchy), both :class:`ReusedPreconditioner`; "direct" (the
+    solver's SuperLU with its own ordering, slower); "auto": "lu" up to 120 000 free DOFs, "amg" above.
+    ``vtu_every``: field output every that many increments (and at the end of every phase); 0 disables it.
+    """
+    t_start = time.perf_counter()
+    check_option("linear_solver", linear_solver, ("auto", "lu", "amg", "direct"))
+    spec = scene.mesh_spec
+    path = scene.path
+    specimen = build_specimen(scene)
+    mesh, basis = specimen.mesh, specimen.basis
+    material = st52_material(scene.material, scene.damage, scene.damage_energy)
+    c_N = penalty_from_stiffness(ST52["E"], specimen.top_layer, scene.penalty)
+    contact = IndenterContact(basis, scene.indenter, path.position, c_N=c_N, mu=scene.mu)
+
+    # the indenter must start outside the block (ScratchPath refuses clearance < 0; this also covers a tip
+    # whose surface reaches below y = 0 away from its apex)
+    if np.any(scene.indenter.gap(contact.reference, path.position(0.0)).gap < -1e-12):
+        raise ValueError("the indenter starts inside the block: some surface nodes lie inside the tip at tau = 0")
+
+    def loading(ctx):
+        if not scene.damage:
+            return {}
+        if scene.damage_rate == "step":
+            return {"external_work": 1.0}     # alpha [1/s] * dt [1 s]: the increment alpha*dt of Table 8.2
+        tip_move = np.asarray(path.position(ctx.load_factor)) - path.position(ctx.load_factor - ctx.delta)
+        work = -contact.forces.force @ tip_move / contact.symmetry_factor      # on the half model, N mm
+        return {"external_work": max(work, 0.0)}
+
+    newton = newton or NewtonOptions(residual_tol=1e-4, increment_tol=1e-3, max_iterations=20,
+                                     divergence_check_after=10)
+    solver = LineSearchSolver(basis, material, specimen.conditions, loading=loading, extra_terms=[contact],
+                              newton=newton, linear_solver="direct")
+    n_free = solver.constraints.free.size
+    kind = linear_solver if linear_solver != "auto" else ("lu" if n_free <= 120_000 else "amg")
+    free = solver.constraints.free
+    if kind == "amg":
+        component = np.zeros(solver.kin.ndof, dtype=int)
+        component[solver.kin.element_dofs] = np.arange(solver.kin.nbf) % 3
+        solver.linear_solver = ReusedPreconditioner(
+            "amg", near_null_space=rigid_body_modes(basis.doflocs[:, free], component[free]))
+    elif kind == "lu":
+        solver.linear_solver = ReusedPreconditioner("lu", order=nested_dissection(basis.doflocs[:, free]))
+    else:
+        solver.linear_solver = DirectSolver()
+
+    out = Path(output) if output is not None else None
+    writer = CurveWriter(out / "forces.csv", CURVE_COLUMNS) if out is not None else None
+    vtu = VtuSeries(out / "fields", stem="step") if (out is not None and vtu_every) else None
+    cells = meshio_cells(mesh) if vtu is not None else None
+    points = mesh.p.T
+    nodal = np.asarray(basis.nodal_dofs)
+    rows: list[dict] = []
+    counters = {"step": 0, "iterations": 0, "cutbacks": 0}
+    u = np.zeros(basis.N)
+    state = material.initial_state((solver.kin.nel, solver.kin.nqp))
+
+    def write_fields(tau, u_now, stress, state_now):
+        if vtu is None:
+            return
+        fields = cell_fields(stress, state_now)
+        fields = {k: v for k, v in fields.items() if np.ndim(v) == 1}
+        if scene.damage:
+            fields["effective_damage"] = material.effective_damage(state_now).mean(axis=1)
+        vtu.write(tau, points, cells, point_data={"displacement": u_now[nodal].T,
+                                                   "contact_pressure": contact.pressure_field(mesh.p.shape[1])},
+                  cell_data={k: [v] for k, v in fields.items()})
+
+    def on_step(result):
+        contact.on_step(result)
+        counters["step"] += 1
+        tau = float(result.load_factors[-1])
+        tip = path.position(tau)
+        f: ContactForces = contact.forces
+        row = {"step": counters["step"], "tau": tau, "phase": PHASES[path.phase(tau)], "tip_y": float(tip[1]),
+               "tip_z": float(tip[2]), "slide": float(tip[2] - path.z_start), "normal_force": f.normal,
+               "tangential_force": f.tangential, "contact_area": f.area, "max_penetration": f.max_penetration,
+               "closed_nodes": f.closed, "slipping_nodes": f.slipping,
+               "iterations": int(result.iterations[-1]), "wall_time": time.perf_counter() - t_start}
+        rows.append(row)
+        if writer is not None:
+            writer.write(**row)
+        if vtu is not None and counters["step"] % vtu_every == 0:
+            write_fields(tau, result.u, result.response.stress, result.state)
+
+    groove_loaded = groove_unloaded = profile_loaded = profile_unloaded = None
+    notes: list[str] = []
+    tol = 2e-3 * scene.depth
+    response = None
+    try:
+        contact.reset(0.0, u)
+        for start, end, dtau in _segments(scene, spec):
+            solver.control = StepControl(initial=dtau, maximum=dtau, minimum=dtau * 1e-3, easy_iterations=7)
+            result = solver.run(start=start, end=end, u0=u, state0=state, progress=progress, on_step=on_step)
+            u, state, response = result.u, result.state, result.response
+            counters["iterations"] += int(result.iterations.sum())
+            counters["cutbacks"] += result.cutbacks
+            if vtu is not None and counters["step"] % vtu_every != 0:
+                write_fields(end, u, response.stress, state)
+            if scene.slide > 0.0 and end == 1.5:
+                groove_loaded, profile_loaded, why = _section(specimen, u, scene.z_section, scene.depth, tol)
+                if why:
+                    notes.append(f"tip in contact: {why}")
+        if scene.slide > 0.0:
+            groove_unloaded, profile_unloaded, why = _section(specimen, u, scene.z_section, scene.depth, tol)
+            if why:
+                notes.append(f"{'after unloading' if scene.unload else 'end of slide'}: {why}")
+    finally:
+        if writer is not None:
+            writer.close()
+
+    curves = {k: np.array([r[k] for r in rows]) for k in CURVE_COLUMNS}
+    removed = None
+    if scene.damage:
+        kin = solver.kin
+        centres = mesh.p[:, mesh.t].mean(axis=1).T
+        window = (scene.z_section - 0.25 * scene.slide, scene.z_section + 0.25 * scene.slide) if scene.slide else None
+        removed = removed_material(kin.dx.sum(axis=1), state["d"].max(axis=-1).mean(axis=1), material.d_max,
+                                   half=True, centres=centres if window else None, z_range=window)
+    steady = (curves["phase"] == PHASES["scratching"]) & (curves["slide"] >= 2.0 * scene.footprint) \
+        if rows else np.zeros(0, bool)
+    if scene.slide > 0.0 and not np.any(steady):
+        steady = curves["phase"] == PHASES["scratching"]
+    mean_fn = float(np.mean(curves["normal_force"][steady])) if np.any(steady) else float("nan")
+    mean_ft = float(np.mean(curves["tangential_force"][steady])) if np.any(steady) else float("nan")
+    result = ScratchResult(
+        scene=scene, curves=curves, groove_loaded=groove_loaded, groove_unloaded=groove_unloaded,
+        profile_loaded=profile_loaded, profile_unloaded=profile_unloaded, removed=removed,
+        mean_normal_force=mean_fn, mean_tangential_force=mean_ft, n_elements=int(mesh.t.shape[1]),
+        n_dofs=int(basis.N), wall_time=time.perf_counter() - t_start, increments=counters["step"],
+        newton_iterations=counters["iterations"], cutbacks=counters["cutbacks"],
+        linear_solver=getattr(solver.linear_solver, "name", "custom"), u=u, state=state, specimen=specimen,
+        contact=contact, output=out, notes=notes)
+    ls = solver.linear_solver
+    if hasattr(ls, "builds"):
+        result.notes.append(f"linear solver {ls.name}: {ls.builds} factorisations, "
+                            f"{int(np.sum(ls.iterations))} Krylov iterations for {len(ls.iterations)} solves")
+    if out is not None:
+        write_json(out / "summary.json", result.summary())
+    return result
+
+
+class GrooveBalance(NamedTuple):
+    """Where the groove's material went, per unit length of scratch at a cross-section (whole model, mm²).
+
+    With u_x = 0 on the symmetry plane and the far side and u_y = 0 on the bottom, integrating
+    tr ε = ∂u_x/∂x + ∂u_y/∂y + ∂u_z/∂z over the section gives ∫u_y dx over the top = A_s − A_g (material
+    section) = ∫tr ε dA − ∫∂u_z/∂z dA. So A_g − A_s = carried_forward − volume_change: material pushed along
+    the scratch (the bow ahead of the tip, ∫∂u_z/∂z dA > 0 where sections nearer the end were pushed further)
+    minus the elastic volume change ∫tr ε dA. ``finite_volume_change`` = ∫(det(I + ∇u) − 1) dA is the volume
+    change a finite-strain model would see for the same displacements: its difference from ∫tr ε dA is the
+    second-order error of the small-strain kinematics in the areas A_g and A_s.
+    """
+
+    surface_change: float
+    volume_change: float
+    carried_forward: float
+    finite_volume_change: float
+
+
+def groove_balance(result: ScratchResult, z: float | None = None) -> GrooveBalance:
+    """:class:`GrooveBalance` of the final state of ``result`` in the element layer that contains ``z`` (default:
+    the mid-length section), whole model (twice the half model's integrals)."""
+    from abrakit.fem import Kinematics
+
+    kin = Kinematics.from_basis(result.specimen.basis)
+    z = result.scene.z_section if z is None else z
+    zs = np.unique(np.round(result.specimen.mesh.p[2], 12))
+    k = int(np.clip(np.searchsorted(zs, z, side="right") - 1, 0, zs.size - 2))
+    z0, z1 = zs[k], zs[k + 1]
+    qz = kin.quadrature_points[2]
+    weight = 2.0 * kin.dx * ((qz >= z0) & (qz <= z1)) / (z1 - z0)
+    grad = kin.displacement_gradient(result.u)
+    return GrooveBalance(
+        surface_change=float(np.sum((grad[..., 0, 0] + grad[..., 1, 1]) * weight)),
+        volume_change=float(np.sum(np.trace(grad, axis1=-2, axis2=-1) * weight)),
+        carried_forward=float(np.sum(grad[..., 2, 2] * weight)),
+        finite_volume_change=float(np.sum((np.linalg.det(np.eye(3) + grad) - 1.0) * weight)),
+    )
+
+
+class HertzCheck(NamedTuple):
+    """FE indentation of an elastic quarter block against Hertz (lengths mm, forces N for the whole sphere).
+
+    depth, force: the FE force–depth curve; hertz_force: (4/3) E* √R d^{3/2} at the same depths; error: relative
+    force error at the final depth; contact_radius: √(A_c/π) from the closed nodes' surface share A_c;
+    radius_bracket: (last closed, first open) node along the x axis; hertz_radius √(R d); max_penetration and
+    the penetration the penalty allows at Hertz's peak pressure, p_0/c_N; elements, dofs, wall_time.
+    """
+
+    depth: np.ndarray
+    force: np.ndarray
+    hertz_force: np.ndarray
+    error: float
+    contact_radius: float
+    radius_bracket: tuple[float, float]
+    hertz_radius: float
+    max_penetration: float
+    allowed_penetration: float
+    elements: int
+    dofs: int
+    wall_time: float
+
+
+def hertz_indentation(h: float, penalty: float = 1.0, *, R: float = 0.05, d: float = 5e-4, steps: int = 4,
+                      extent: float = 30.0, growth: float = 1.4, linear_solver: str = "lu") -> HertzCheck:
+    """Frictionless sphere pressed into an elastic St-52 quarter block, the elastic check of the indentation step.
+
+    The quarter x ≥ 0, z ≥ 0 (symmetry planes x = 0 and z = 0 through the tip's axis) of a block reaching
+    ``extent`` contact radii a = √(R d) in every direction, the bottom fixed and the far sides free (the
+    half-space of Hertz, truncated); elements of about ``h`` (mm) over (2.25 a)³ under the tip, growing by
+    ``growth`` outside; penalty c_N = ``penalty`` · E / h. The depth is reached in ``steps`` increments. The
+    truncation stiffens the block by about 0.4 a/L in depth (< 2 % for ``extent`` = 30), the nodal contact
+    and the trilinear elements by O((h/a)²), the penalty softens it by the penetration p/c_N.
+    """
+    t0 = time.perf_counter()
+    check_positive("h", h)
+    a = math.sqrt(R * d)
+    L = extent * a
+    # fine zone 2.25 a: nodes then never fall on the contact edge r = a for h = a, a/2, a/4, ...
+    axis = zoned_axis(0.0, L, 0.0, 2.25 * a, h, growth)
+    ys = zoned_axis(-L, 0.0, -2.25 * a, 0.0, h, growth)
+    mesh = skfem.MeshHex.init_tensor(axis, ys, axis)
+    tol = 1e-9 * L
+    mesh = mesh.with_boundaries({"x0": lambda x: x[0] < tol, "z0": lambda x: x[2] < tol,
+                                 "bottom": lambda x: x[1] < -L + tol})
+    basis = vector_basis(mesh)
+    conditions = [Dirichlet.on(basis, "x0", "x"), Dirichlet.on(basis, "z0", "z"), Dirichlet.on(basis, "bottom")]
+    indenter = SphericalIndenter(R)
+    path = ScratchPath(depth=d, slide=0.0, z_start=0.0, unload=False)
+    c_N = penalty_from_stiffness(ST52["E"], h, penalty)
+    contact = IndenterContact(basis, indenter, path.position, c_N=c_N, mu=0.0, symmetry_factor=4.0)
+    solver = LineSearchSolver(basis, st52_material("elastic"), conditions, extra_terms=[contact],
+                              control=StepControl(initial=1.0 / steps, maximum=1.0 / steps, minimum=1e-4),
+                              newton=NewtonOptions(residual_tol=1e-8, max_iterations=30, divergence_check_after=30),
+                              linear_solver="direct")
+    if linear_solver == "lu":
+        solver.linear_solver = ReusedPreconditioner("lu", order=nested_dissection(
+            basis.doflocs[:, solver.constraints.free]))
+    depths, forces = [0.0], [0.0]
+
+    def on_step(result):
+        contact.on_step(result)
+        depths.append(-float(path.position(result.load_factors[-1])[1]))
+        forces.append(contact.forces.normal)
+
+    contact.reset(0.0, np.zeros(basis.N))
+    solver.run(end=1.0, progress=False, on_step=on_step)
+    depths, forces = np.array(depths), np.array(forces)
+    hertz = hertz_sphere(ST52["E"], ST52["nu"], R, depths)
+    closed = contact.pressure > 0.0
+    on_axis = np.abs(contact.reference[:, 2]) < tol
+    r_closed = contact.reference[closed & on_axis, 0]
+    r_open = contact.reference[~closed & on_axis, 0]
+    bracket = (float(r_closed.max(initial=0.0)), float(r_open.min(initial=np.inf)))
+    p0 = hertz_sphere(ST52["E"], ST52["nu"], R, d).max_pressure
+    return HertzCheck(
+        depth=depths, force=forces, hertz_force=np.asarray(hertz.force), error=float(forces[-1] / hertz.force[-1] - 1),
+        contact_radius=math.sqrt(contact.forces.area / math.pi), radius_bracket=bracket, hertz_radius=a,
+        max_penetration=contact.forces.max_penetration, allowed_penetration=p0 / c_N,
+        elements=int(mesh.t.shape[1]), dofs=int(basis.N), wall_time=time.perf_counter() - t0)
+
+
+def demo() -> str:
+    """A coarse scratch (sphere R = 50 µm, d = 2 µm, 30 µm slide, St-52, demo mesh) in well under a minute."""
+    scene = ScratchScene(slide=0.03, mesh="demo", size=(0.1, 0.015, 0.1), indent_steps=10)
+    r = run_scratch(scene, vtu_every=0)
+    lines = [
+        f"Single scratch, half model: sphere R = {scene.indenter.radius * 1e3:g} um, d = {scene.depth * 1e3:g} um, "
+        f"slide {scene.slide * 1e3:g} um, St-52 (sigma_0 = {ST52['yield_stress']:g} MPa, H = "
+        f"{ST52['hardening']:g} MPa), mu = {scene.mu}; {r.n_elements} hexes / {r.n_dofs} DOF, {r.increments} "
+        f"increments, {r.newton_iterations} Newton iterations, {r.cutbacks} cutbacks, {r.wall_time:.1f} s",
+        f"forces while sliding (whole grain): F_N = {r.mean_normal_force:.3f} N, F_T = {r.mean_tangential_force:.3f}"
+        f" N (F_T/F_N = {r.mean_tangential_force / r.mean_normal_force:.3f}); peak F_N "
+        f"{np.max(r.curves['normal_force']):.3f} N at the end of the indentation",
+    ]
+    for label, g in (("tip in contact", r.groove_loaded), ("after unloading", r.groove_unloaded)):
+        if g is None:
+            lines.append(f"groove {label}: not defined ({'; '.join(r.notes)})")
+        else:
+            lines.append(f"groove {label}: A_g = {g.groove_area * 1e6:.1f} um2, A_s = {g.shoulder_area * 1e6:.1f} "
+                         f"um2, w = {g.width * 1e3:.1f} um, f_ab = {g.degree_of_wear:.2f} ({g.regime}), "
+                         f"D_p = {g.degree_of_penetration:.3f}")
+    return "\n".join(lines)

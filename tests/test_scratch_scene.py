@@ -1,0 +1,241 @@
+"""Tests of the 3D single scratch scene: the contact term in the FE solver, Hertz, friction, symmetry, refusals.
+
+Small meshes only (the whole file runs in about a minute on one core); the seed's default scene and the
+studies live in ``benchmarks/bench_scratch.py``, the heaviest checks are marked ``slow``.
+"""
+
+import math
+
+import numpy as np
+import pytest
+
+from abrakit.fem import StepContext
+from abrakit.scratch import SphericalIndenter
+from abrakit.scratch.contact import SLIP, STICK
+from abrakit.scratch.contact_term import IndenterContact, nodal_areas, surface_facets
+from abrakit.scratch.scene import (
+    ScratchScene,
+    SpecimenMesh,
+    build_specimen,
+    hertz_indentation,
+    run_scratch,
+    zoned_axis,
+)
+
+TINY_BLOCK = (0.06, 0.015, 0.08)               # full width, thickness, length (mm): enough for d <= 1 um
+TINY_MESH = SpecimenMesh(h=0.003, h_z=0.004, h_y=0.001, growth=1.6, width=1.6)
+
+
+# ---- mesh and surface --------------------------------------------------------------------------------------------
+
+
+def test_zoned_axis_is_uniform_in_the_fine_zone_and_grows_geometrically_outside():
+    x = zoned_axis(0.0, 0.2, 0.05, 0.15, 0.002, 1.4)
+    assert x[0] == 0.0 and x[-1] == 0.2 and np.all(np.diff(x) > 0)
+    h = np.diff(x)
+    fine = (x[:-1] >= 0.05 - 1e-12) & (x[1:] <= 0.15 + 1e-12)
+    assert np.allclose(h[fine], 0.002)
+    assert np.isclose(h[fine].sum(), 0.1)
+    ratio = h[1:] / h[:-1]
+    assert ratio.max() < 1.4 * 1.5 and ratio.min() > 1 / (1.4 * 1.5)       # smooth transition (Fig. 8.3)
+
+
+def test_nodal_areas_tile_the_top_face_and_the_specimen_is_the_seed_block():
+    scene = ScratchScene(mesh="demo")
+    specimen = build_specimen(scene)
+    lo, hi = specimen.mesh.p.min(axis=1), specimen.mesh.p.max(axis=1)
+    assert np.allclose(hi - lo, [0.05, 0.015, 0.2]) and np.isclose(hi[1], 0.0)   # half of 100 x 15 x 200 um
+    nodes, areas = nodal_areas(specimen.mesh, surface_facets(specimen.mesh))
+    assert np.isclose(areas.sum(), 0.05 * 0.2, rtol=1e-12)
+    assert np.allclose(specimen.mesh.p[1, nodes], 0.0) and np.all(areas > 0)
+
+
+# ---- Hertz: the elastic indentation check ------------------------------------------------------------------------
+
+
+@pytest.fixture(scope="module")
+def hertz_levels():
+    """Two refinement levels of mesh and penalty: h = a with c_N = 3 E/h, h = a/2 with c_N = 10 E/h."""
+    a = math.sqrt(0.05 * 5e-4)
+    return hertz_indentation(a, 3.0), hertz_indentation(a / 2, 10.0)
+
+
+def test_hertz_force_within_a_tolerance_that_shrinks_with_mesh_and_penalty(hertz_levels):
+    coarse, fine = hertz_levels
+    assert abs(coarse.error) <= 0.15                       # h = a, c_N = 3 E/h (measured -11 %)
+    assert abs(fine.error) <= 0.03                         # h = a/2, c_N = 10 E/h (measured +1.7 %)
+    assert abs(fine.error) < abs(coarse.error)
+    # the force-depth curve follows d^{3/2} (from half the depth on, where a spans a few elements)
+    slope = np.log(fine.force[-1] / fine.force[2]) / np.log(fine.depth[-1] / fine.depth[2])
+    assert slope == pytest.approx(1.5, abs=0.1)
+
+
+def test_hertz_contact_radius_is_sqrt_R_d(hertz_levels):
+    for level in hertz_levels:
+        last_closed, first_open = level.radius_bracket
+        assert last_closed < level.hertz_radius < first_open
+        h = first_open - last_closed
+        assert abs(level.contact_radius - level.hertz_radius) <= h
+
+
+def test_no_node_penetrates_the_tip_more_than_the_penalty_allows(hertz_levels):
+    for level in hertz_levels:
+        # g_N >= -p/c_N with p at most (about) Hertz's peak pressure p0
+        assert 0.0 < level.max_penetration <= 1.05 * level.allowed_penetration
+
+
+def test_penalty_alone_converges_to_the_stiff_limit():
+    """Same mesh, penalty raised: the penalty's softening (-p/c_N penetration) disappears."""
+    a = math.sqrt(0.05 * 5e-4)
+    soft, stiff = hertz_indentation(a, 1.0), hertz_indentation(a, 100.0)
+    assert soft.error < stiff.error                        # a soft penalty under-predicts the force
+    assert soft.max_penetration > 20 * stiff.max_penetration
+
+
+def test_first_contact_increment_converges_or_is_cut_back():
+    """The whole indentation in a single increment: the Newton solver (with cutbacks if needed) gets there and
+    the frictionless elastic answer does not depend on the path."""
+    a = math.sqrt(0.05 * 5e-4)
+    one, four = hertz_indentation(a, 10.0, steps=1), hertz_indentation(a, 10.0, steps=4)
+    assert one.depth[-1] == pytest.approx(5e-4)
+    assert one.force[-1] == pytest.approx(four.force[-1], rel=1e-6)
+
+
+# ---- friction, symmetry, penetration while sliding ---------------------------------------------------------------
+
+
+@pytest.fixture(scope="module")
+def elastic_slide():
+    scene = ScratchScene(material="elastic", depth=0.0008, slide=0.02, unload=False, mesh=TINY_MESH,
+                         size=TINY_BLOCK, indent_steps=3)
+    return run_scratch(scene, vtu_every=0)
+
+
+def test_steady_sliding_on_an_elastic_block_gives_mu(elastic_slide):
+    r = elastic_slide
+    sliding = (r.curves["phase"] == 1) & (r.curves["slide"] >= 2 * r.scene.footprint)
+    assert sliding.sum() >= 3
+    ratio = r.curves["tangential_force"][sliding] / r.curves["normal_force"][sliding]
+    assert np.allclose(ratio, 0.1, atol=0.01)
+    assert np.all(r.curves["slipping_nodes"][sliding] == r.curves["closed_nodes"][sliding])   # gross sliding
+
+
+def test_symmetry_plane_carries_no_normal_displacement(elastic_slide):
+    r = elastic_slide
+    mesh = r.specimen.mesh
+    on_plane = np.flatnonzero(mesh.p[0] < 1e-12)
+    u_x = r.u[np.asarray(r.specimen.basis.nodal_dofs)[0, on_plane]]
+    assert np.all(u_x == 0.0)
+    moved = r.u[np.asarray(r.specimen.basis.nodal_dofs)[1, on_plane]]
+    assert np.abs(moved).max() > 1e-4                       # the plane itself is loaded, only u_x is held
+
+
+def test_sliding_nodes_stay_within_the_penalty_penetration(elastic_slide):
+    r = elastic_slide
+    c = r.contact
+    tau = float(r.curves["tau"][-1])
+    penetration = c.penetration(r.u, tau)
+    assert np.allclose(penetration, c.pressure / c.c_N, rtol=1e-9, atol=1e-15)   # g_N = -p/c_N exactly
+    assert np.all(r.curves["max_penetration"] <= c.pressure.max() / c.c_N * 1.5)  # never deeper than p_max/c_N
+    assert penetration.max() <= 0.15 * r.scene.depth        # c_N = E/h_y with h_y = 1 um: elastic p ~ 20 GPa
+
+
+def test_stick_below_the_coulomb_limit():
+    """A small tangential move under a rough tip (mu = 0.5): the central nodes stick and F_T < mu F_N."""
+    scene = ScratchScene(material="elastic", depth=0.0008, slide=2e-5, unload=False, mu=0.5, mesh=TINY_MESH,
+                         size=TINY_BLOCK, indent_steps=3)
+    r = run_scratch(scene, vtu_every=0)
+    c = r.contact
+    assert r.curves["tangential_force"][-1] < 0.5 * r.curves["normal_force"][-1]
+    status = c.state["status"]
+    centre = np.argmin(np.linalg.norm(c.reference - [0.0, 0.0, scene.path.z_end], axis=1))
+    assert status[centre] == STICK
+    assert np.sum(status == STICK) > np.sum(status == SLIP)      # partial slip only at the contact's edge
+
+
+# ---- refusals and history ----------------------------------------------------------------------------------------
+
+
+def test_sliding_past_the_end_of_the_fine_zone_is_refused():
+    with pytest.raises(ValueError, match="past the end of the fine zone"):
+        build_specimen(ScratchScene(slide=0.19, mesh="demo"))
+    with pytest.raises(ValueError, match="past the end of the fine zone"):
+        build_specimen(ScratchScene(mesh=SpecimenMesh(h=0.004, fine_z=(0.03, 0.12))))
+
+
+def test_an_indenter_starting_inside_the_block_is_refused():
+    with pytest.raises(ValueError, match="starts inside the block"):
+        ScratchScene(clearance=-1e-4)
+
+
+def test_contact_history_must_be_committed():
+    scene = ScratchScene(mesh="demo", size=TINY_BLOCK, slide=0.01)
+    specimen = build_specimen(scene)
+    contact = IndenterContact(specimen.basis, SphericalIndenter(0.05), scene.path.position, c_N=2e8)
+    n = specimen.basis.N
+    u = np.zeros(n)
+    contact.reset(0.0, u)
+    ctx = StepContext(1, 0.5, 0.5, 0.5, 0.5, 0, u, u, {}, u)
+    contact(u, ctx)
+    later = StepContext(2, 0.7, 0.2, 0.7, 0.2, 0, u, u, {}, u)        # starts at 0.5, never committed
+    with pytest.raises(RuntimeError, match="not committed"):
+        contact(u, later)
+    contact.commit(u, 0.5)
+    contact(u, later)
+
+
+def test_an_unphysically_deep_iterate_gives_a_non_finite_residual_for_the_cutback():
+    scene = ScratchScene(mesh="demo", size=TINY_BLOCK, slide=0.01)
+    specimen = build_specimen(scene)
+    contact = IndenterContact(specimen.basis, SphericalIndenter(0.05), scene.path.position, c_N=2e8)
+    u = np.zeros(specimen.basis.N)
+    contact.reset(1.0, u)
+    deep = u.copy()
+    sphere_centre = scene.path.position(1.0) + [0.0, 0.05, 0.0]
+    node = np.argmin(np.linalg.norm(contact.reference - scene.path.position(1.0), axis=1))
+    deep[contact.dofs[node]] = sphere_centre - contact.reference[node]      # moved to the sphere's centre
+    residual, _ = contact(deep, StepContext(1, 1.0, 0.0, 1.0, 0.0, 0, deep, u, {}, u))
+    assert not np.all(np.isfinite(residual))
+
+
+# ---- Model II in the scene ---------------------------------------------------------------------------------------
+
+
+def test_model_two_damage_obeys_the_rate_limit_of_the_tip_work():
+    """damage_rate="work": every increment adds at most alpha times the tip's work on the half model (Eq. 6.97,
+    6.98) to a sub-domain, so no damage exceeds alpha times the total work; removed material is reported."""
+    scene = ScratchScene(damage=True, damage_rate="work", depth=0.0008, slide=0.008, unload=False, mesh=TINY_MESH,
+                         size=TINY_BLOCK, indent_steps=3)
+    r = run_scratch(scene, vtu_every=0)
+    c = r.curves
+    tip_y, tip_z = np.r_[0.0, c["tip_y"]], np.r_[scene.path.z_start, c["tip_z"]]
+    force_n, force_t = np.r_[0.0, c["normal_force"]], np.r_[0.0, c["tangential_force"]]
+    # the rate limit uses the forces of the last converged increment (explicit in time), half model
+    work = 0.5 * np.sum(force_n[:-1] * -np.diff(tip_y) + force_t[:-1] * np.diff(tip_z))
+    assert 0.0 < r.state["d"].max() <= 0.05 * work * (1 + 1e-3)             # alpha = 0.05 1/(N mm)
+    assert r.removed is not None and r.removed.count == 0 and r.removed.volume == 0.0
+
+
+# ---- the plastic groove ------------------------------------------------------------------------------------------
+
+
+@pytest.mark.slow
+def test_plastic_scratch_leaves_a_groove_with_shoulders():
+    r = run_scratch(ScratchScene(slide=0.03, mesh="demo", size=(0.1, 0.015, 0.1)), vtu_every=0)
+    a = r.scene.footprint
+    for g in (r.groove_loaded, r.groove_unloaded):
+        assert g is not None and 0.0 <= g.degree_of_wear <= 1.0 and g.shoulder_area > 0.0
+    loaded = r.groove_loaded
+    assert loaded.groove_area == pytest.approx(4 / 3 * a * r.scene.depth, rel=0.25)   # the tip's parabolic cap
+    assert r.groove_unloaded.groove_area < loaded.groove_area                          # elastic recovery
+    assert r.contact.forces.max_penetration <= 4000.0 / r.contact.c_N                  # p < 4 GPa, twice H
+
+
+def test_groove_balance_accounts_for_the_section_exactly(elastic_slide):
+    """A_s - A_g of the material section equals int tr(eps) dA - int du_z/dz dA (divergence theorem)."""
+    from abrakit.scratch.scene import groove_balance
+
+    b = groove_balance(elastic_slide)
+    assert b.surface_change == pytest.approx(b.volume_change - b.carried_forward, rel=1e-12, abs=1e-18)
+    # elastic, small displacements: the finite-strain volume change agrees with tr(eps) to second order
+    assert b.finite_volume_change == pytest.approx(b.volume_change, rel=0.05)
