@@ -248,12 +248,13 @@ def test_thin_strip_without_diagonal_neighbours_falls_back():
 @pytest.mark.parametrize("shear", [1.0, 50.0])
 def test_collinear_or_sliver_stencils_fall_back_and_stay_exact(shear):
     """Shear 1: the corner elements' only diagonal candidate is collinear with the centre (singular 5x5 system).
-    Shear 50: sliver parallelograms, condition > 1e4. Both are detected and fitted over the 2-ring instead."""
+    Shear 50: sliver parallelograms, condition > 1e4. Both are detected and fitted over the 2-ring instead; the
+    signed least-squares rows (``monotone=False``) are exact for quadratics on every interior element."""
     mesh = unit_cube_mesh("quad", 8)
     p = mesh.p.copy()
     p[0] += shear * p[1]
-    mesh = skfem.MeshQuad(p, mesh.t)
-    lap = element_laplacian(mesh)
+    mesh = type(mesh)(p, mesh.t)
+    lap = element_laplacian(mesh, monotone=False)
     assert lap.n_fallback >= 2
     assert np.all(lap.condition[lap.fallback] <= 1e4)
     f, _, hess = random_quadratic(2, seed=5)
@@ -262,6 +263,33 @@ def test_collinear_or_sliver_stencils_fall_back_and_stay_exact(shear):
     assert np.any(lap.fallback & inside) or shear == 1.0
     scale = np.abs(values).max() * 64.0                               # |f| / h**2: roundoff level
     assert np.allclose(lap(values)[inside], np.trace(hess), rtol=0, atol=1e-12 * scale)
+    assert not lap.inexact.any()
+
+
+@pytest.mark.parametrize("shear", [1.0, 50.0])
+def test_monotone_sliver_rows_are_exact_where_possible_and_flagged_elsewhere(shear):
+    """The default nonnegative rows on the same meshes: gradient and Hessian (least-squares fit) stay exact for
+    quadratics on interior elements; the Laplacian too where the ring admits a nonnegative exact row. The shear-50
+    slivers would need members ~50 cells away along the sliver, so there they are flagged ``inexact``: error
+    O(|Hessian|), not O(|f| / h**2)."""
+    mesh = unit_cube_mesh("quad", 8)
+    p = mesh.p.copy()
+    p[0] += shear * p[1]
+    mesh = type(mesh)(p, mesh.t)
+    lap = element_laplacian(mesh)
+    f, grad, hess = random_quadratic(2, seed=5)
+    values = f(lap.centres)
+    inside = interior(mesh)
+    scale = np.abs(values).max() * 64.0
+    assert np.allclose(lap.hessian(values)[inside], hess, rtol=0, atol=1e-12 * scale)
+    assert np.allclose(lap.gradient(values)[inside], grad(lap.centres)[inside], rtol=0, atol=1e-12 * scale)
+    exact = inside & ~lap.inexact
+    assert np.allclose(lap(values)[exact], np.trace(hess), rtol=0, atol=1e-12 * scale)
+    assert np.array_equal(lap.inexact, lap.fallback & (shear == 50.0))
+    assert np.abs(lap(values) - np.trace(hess))[inside].max() < 2.0 * np.abs(hess).max()
+    L = lap.matrix.toarray()
+    rows = lap.fallback
+    assert np.all((L - np.diag(np.diag(L)))[rows] >= -1e-12 * np.abs(np.diag(L)).max())
 
 
 def test_forced_fallback_keeps_interior_exactness_and_smooth_accuracy():
@@ -274,6 +302,101 @@ def test_forced_fallback_keeps_interior_exactness_and_smooth_accuracy():
     smooth = np.prod(np.cos(np.pi * forced.centres), axis=1)
     exact = -2.0 * np.pi**2 * smooth
     assert np.abs(forced(smooth) - exact).max() < 1.5 * np.abs(normal(smooth) - exact).max()
+
+
+def vertex_rings(mesh, elements, rings):
+    """Mask of the elements within ``rings`` vertex rings of ``elements`` (mask or indices)."""
+    nel = mesh.t.shape[1]
+    incidence = np.zeros((mesh.p.shape[1], nel), dtype=bool)
+    incidence[mesh.t, np.arange(nel)] = True
+    mask = np.zeros(nel, dtype=bool)
+    mask[elements] = True
+    for _ in range(rings):
+        mask = np.any(incidence[np.any(incidence[:, mask], axis=1)], axis=0)
+    return mask
+
+
+def off_diagonal(matrix):
+    L = matrix.toarray()
+    return L - np.diag(np.diag(L)), np.abs(np.diag(L)).max()
+
+
+def wall_symmetric_quadratic(lap, q):
+    """f = 0.3 + sum q_k x_k**2 (zero normal derivative on the walls x_k = 0) and its Laplacian 2 sum q_k."""
+    return 0.3 + lap.centres**2 @ q, 2.0 * np.sum(q)
+
+
+def away_from_far_walls(mesh):
+    """Elements whose fallback ring (1- and 2-ring ghosts) sees no wall x_k = 1 (or the strips' far ends)."""
+    facets, owner, _ = ghost_centres(mesh)
+    nodes = mesh.p[:, mesh.facets[:, facets]]
+    top = mesh.p.max(axis=1)[:, None, None]
+    far = np.any(np.all(np.isclose(nodes, top) & (top > 0.5), axis=1), axis=0)
+    return ~vertex_rings(mesh, owner[far], 2)
+
+
+ASPECT_8 = {   # one element high, elements 8 times longer than high: no diagonal neighbours, every element falls back
+    "quad strip": lambda: skfem.MeshQuad.init_tensor(np.linspace(0.0, 8.0, 9), np.array([0.0, 0.125])),
+    "hex plate": lambda: skfem.MeshHex.init_tensor(np.linspace(0.0, 8.0, 9), np.linspace(0.0, 8.0, 9),
+                                                   np.array([0.0, 0.125])),
+}
+
+
+@pytest.mark.parametrize("name", ASPECT_8)
+def test_fallback_rows_on_aspect_8_strips_are_nonnegative_and_exact(name):
+    """M-matrix rows (discrete maximum principle): L_ij >= 0 off the diagonal and rows summing to zero, so at a
+    local maximum Lambda_f <= 0. The 2-ring least-squares fit gave L_ij down to -2.78 (quad strip, next to +11.5)
+    and -3.61 (hex plate). On the uniform strip the row is the classical reflecting 3-point stencil."""
+    mesh = ASPECT_8[name]()
+    lap = element_laplacian(mesh)
+    assert lap.n_fallback == mesh.t.shape[1] and not lap.inexact.any()
+    off, scale = off_diagonal(lap.matrix)
+    assert off.min() >= -1e-12 * scale
+    assert np.abs(lap.matrix.sum(axis=1)).max() <= 1e-12 * scale
+    f, laplacian = wall_symmetric_quadratic(lap, np.append([1.5, -0.7][:mesh.dim() - 1], 0.0))   # flat across
+    check = away_from_far_walls(mesh)
+    assert check.sum() >= 3
+    assert np.allclose(lap(f)[check], laplacian, rtol=0, atol=1e-10 * scale)
+    if mesh.dim() == 2:
+        L = lap.matrix.toarray()
+        for i in range(2, 6):
+            assert np.allclose(L[i, i - 1:i + 2], [1.0, -2.0, 1.0], rtol=0, atol=1e-12)
+            assert np.count_nonzero(L[i]) == 3
+
+
+FORCED = [("tet", 4, "none", 0.2, 20.0), ("quad", 8, "none", 0.25, 3.0), ("hex", 4, "side", 0.0, 6.0)]
+
+
+@pytest.mark.parametrize(("kind", "n", "grading", "perturb", "max_condition"), FORCED)
+def test_nonnegative_fallback_rows_stay_exact_for_quadratics(kind, n, grading, perturb, max_condition):
+    """Perturbed and graded meshes with the fallback forced (low max_condition): the rows are nonnegative (the
+    least-squares fit gave -8.9 on the tetrahedra, -15.8 on the graded hexahedra) and still exact for every
+    quadratic on interior elements and for wall-symmetric quadratics on the others."""
+    mesh = unit_cube_mesh(kind, n, grading=grading, perturb=perturb)
+    lap = element_laplacian(mesh, max_condition=max_condition)
+    assert lap.n_fallback > 0 and not lap.inexact.any()
+    off, scale = off_diagonal(lap.matrix)
+    assert off[lap.fallback].min() >= -1e-12 * scale
+    f, _, hess = random_quadratic(mesh.dim(), seed=4)
+    values = f(lap.centres)
+    inside = interior(mesh) & lap.fallback
+    assert inside.any() or kind == "hex"
+    assert np.allclose(lap(values)[inside], np.trace(hess), rtol=0, atol=1e-12 * np.abs(values).max() * scale)
+    symmetric, laplacian = wall_symmetric_quadratic(lap, np.array([1.5, -0.7, 2.2])[:mesh.dim()])
+    check = lap.fallback & away_from_far_walls(mesh)
+    assert check.any()
+    assert np.allclose(lap(symmetric)[check], laplacian, rtol=0, atol=1e-10 * scale)
+
+
+@pytest.mark.parametrize("mesh", [ASPECT_8["quad strip"](), unit_cube_mesh("tet", 4, perturb=0.2)])
+def test_diagonal_is_the_derivative_of_the_applied_laplacian(mesh):
+    """Eq. (6.75): d(Lambda_f)_i / d f_i by finite differences of lap(f) (linear in f: exact up to roundoff)."""
+    lap = element_laplacian(mesh, max_condition=20.0)
+    assert lap.n_fallback > 0
+    f = np.random.default_rng(2).normal(size=mesh.t.shape[1])
+    base, step = lap(f), 1e-3
+    derivative = np.array([(lap(f + step * (np.arange(f.size) == i)) - base)[i] / step for i in range(f.size)])
+    assert np.allclose(lap.diagonal, derivative, rtol=1e-8, atol=1e-8 * np.abs(lap.diagonal).max())
 
 
 def test_hopeless_stencil_is_stopped_with_a_clear_message():
@@ -301,6 +424,8 @@ def test_unsupported_meshes_and_options_raise():
         element_laplacian(mesh, max_condition=0.0)
     with pytest.raises(ValueError, match="max_candidates"):
         element_laplacian(mesh, max_candidates=0)
+    with pytest.raises(TypeError, match="monotone"):
+        element_laplacian(mesh, monotone="yes")
     with pytest.raises(ValueError, match="kind"):
         unit_cube_mesh("wedge", 4)
     with pytest.raises(ValueError, match="perturb"):

@@ -53,6 +53,24 @@ where that is ill-conditioned). A quadratic field is still reproduced exactly on
 over-determined system is consistent). If even the fallback is ill-conditioned the construction stops with a
 ``ValueError`` naming the elements.
 
+**Nonnegative fallback rows.** The least-squares fit gives good derivatives (``derivative_matrix``, ``gradient``,
+``hessian``), but its Laplacian rows can carry negative off-diagonal weights (strips one element high with elements
+8 times longer than high: -2.8 next to +11.5 on elements of unit length). The discrete Laplacian then loses the
+M-matrix property -- the maximum principle :math:`\Lambda_f \le 0` wherever :math:`f_i` is a local maximum --
+and oscillating damage fields are no longer smoothed. On fallback elements the rows of ``matrix`` are therefore
+solved for directly: weights :math:`c_j \ge 0` on :math:`f_j - f_i` meeting the moment conditions that make the
+row exact for every quadratic, :math:`\sum_j c_j\Delta\mathbf{x}_j = \mathbf{0}`,
+:math:`\sum_j c_j \Delta x_{j,k}\Delta x_{j,p} = 2\delta_{kp}`, and among those the one minimising
+:math:`\sum_j (\rho_j^3 c_j)^2` (dimensionless distances :math:`\rho_j`: close members preferred). This strictly
+convex problem has one solution, so symmetric neighbourhoods give symmetric rows (a linear program would pick an
+arbitrary vertex); it is solved as a small nonnegative least-squares problem (Lawson-Hanson), the moment conditions
+weighted by 1e8 over the penalty, which meets them to roundoff. The 1-ring (with its ghosts) is tried before the
+2-ring, so a uniform strip gets the classical reflecting 3-point stencil; ghosts of the element itself carry
+:math:`f_i` and drop out of the row. Where neither ring admits a nonnegative exact row (slivers, whose Laplacian
+needs members far along the sliver) the best nonnegative fit of the moments is kept and the element is marked in
+``inexact``: there :math:`\Lambda_f` of a quadratic is off by O(:math:`|\nabla^2 f|`), never NaN. ``diagonal``
+is the diagonal of this ``matrix``, i.e. the exact derivative of the operator applied.
+
 **Accuracy.** Second derivatives from a Taylor fit lose two orders: on uniform grids the symmetric stencil cancels
 the cubic terms and the error is O(h^2) (the classical 3/5/7-point Laplacian with reflecting walls); on irregular,
 perturbed or simplex meshes it is O(h), exact for quadratics.
@@ -71,6 +89,7 @@ from dataclasses import dataclass
 import numpy as np
 import scipy.sparse as sp
 import skfem
+from scipy.optimize import nnls
 
 from abrakit.validation import check_finite, check_option, check_positive, check_range, check_shape
 
@@ -87,6 +106,16 @@ _AXES = "xyz"
 
 #: Exponents q of the fallback weights min(1, rho_n / rho)**(2 q), tried from steep (local) to flat (robust).
 FALLBACK_WEIGHT_POWERS = (3, 1, 0)
+
+#: Nonnegative fallback rows: a member at dimensionless distance rho costs (rho**q c)**2 (close ones preferred).
+NONNEGATIVE_PENALTY_POWER = 3
+
+#: Weight of the moment conditions over the penalty (weighting method for equality constraints, Lawson & Hanson,
+#: ch. 22): the conditions are met to about (1 / weight)**2, i.e. to roundoff.
+NONNEGATIVE_CONSTRAINT_WEIGHT = 1e8
+
+#: A nonnegative fallback row is exact for quadratics when every dimensionless moment condition holds to this.
+NONNEGATIVE_TOLERANCE = 1e-8
 
 
 def taylor_terms(dim: int) -> tuple[tuple[int, ...], ...]:
@@ -180,7 +209,9 @@ class ElementLaplacian:
     units of f / length**2; ``derivative_matrix`` (nel * n, nel) gives all unknowns of Eq. (6.69), row
     ``i * n + l`` holding derivative ``l`` of element ``i``. ``condition`` is the condition number of the
     dimensionless, column-equilibrated system used for each element, ``fallback`` marks the elements solved by the
-    least-squares fit over the 2-ring.
+    least-squares fit over the 2-ring. On fallback elements the rows of ``matrix`` are the nonnegative Laplacian
+    stencils (off-diagonal entries >= 0), not the unmixed sum of ``derivative_matrix``; ``inexact`` marks those
+    whose ring admits no nonnegative stencil exact for quadratics (the best nonnegative fit is used there).
     """
 
     matrix: sp.csr_matrix
@@ -188,6 +219,7 @@ class ElementLaplacian:
     centres: np.ndarray
     condition: np.ndarray
     fallback: np.ndarray
+    inexact: np.ndarray
     names: tuple[str, ...]
 
     def __call__(self, f) -> np.ndarray:
@@ -215,7 +247,7 @@ class ElementLaplacian:
 
     @property
     def diagonal(self) -> np.ndarray:
-        """(D Lambda_f)_i = d(Lambda_f)_i / d f_i, Eq. (6.75) (own ghost rows do not depend on f_i: Delta f = 0)."""
+        """(D Lambda_f)_i = d(Lambda_f)_i / d f_i of ``matrix``, Eq. (6.75) (own ghosts: Delta f = 0, no share)."""
         return self.matrix.diagonal()
 
     @property
@@ -320,6 +352,7 @@ def element_laplacian(
     max_condition: float = 1e4,
     selection: str = "auto",
     max_candidates: int = 16,
+    monotone: bool = True,
 ) -> ElementLaplacian:
     """Precompute the element Laplacian of Model I on a scikit-fem mesh, Eq. (6.65)-(6.75).
 
@@ -333,10 +366,15 @@ def element_laplacian(
         coordinate plane; quadrilaterals and hexahedra), ``"greedy"`` (most new information, any element type) or
         ``"auto"`` (diagonal for quadrilaterals/hexahedra, greedy for simplices).
     max_candidates : the nearest this-many vertex neighbours are considered as extra members.
+    monotone : on fallback elements use the nonnegative Laplacian rows (maximum principle; ``inexact`` where no
+        nonnegative row is exact for quadratics); ``False`` keeps the signed least-squares rows, exact for
+        quadratics on every interior element but possibly with negative off-diagonal weights.
     """
     n_faces = _mesh_kind(mesh)
     max_condition = check_positive("max_condition", max_condition)
     check_option("selection", selection, ("auto", "diagonal", "greedy"))
+    if not isinstance(monotone, bool):
+        raise TypeError(f"monotone must be True or False, got {monotone!r}")
     if isinstance(max_candidates, bool) or int(max_candidates) != max_candidates or max_candidates < 1:
         raise ValueError(f"max_candidates must be a positive integer, got {max_candidates!r}")
     dim = mesh.dim()
@@ -368,19 +406,26 @@ def element_laplacian(
 
     fallback = ~square
     condition = condition.copy()
+    inexact = np.zeros(len(centres), dtype=bool)
     if fallback.any():
-        targets, sources, weights, condition[fallback] = _least_squares_fit(
-            mesh, centres, length, adjacency, np.nonzero(fallback)[0], max_condition, condition
-        )
+        targets = np.nonzero(fallback)[0]
+        sources, dx_fit, near = _fallback_members(mesh, centres, length, adjacency, targets)
+        weights, condition[fallback] = _least_squares_fit(targets, sources, dx_fit, max_condition, condition)
         blocks.append((targets, sources, weights))
+        if monotone:
+            stencils, inexact[fallback] = _nonnegative_rows(sources, dx_fit, near)
 
     derivative_matrix = _assemble(blocks, length, dim, len(centres))
+    matrix = _unmixed_sum(derivative_matrix, dim)
+    if monotone and fallback.any():
+        matrix = _with_rows(matrix, targets, sources, stencils / length[targets, None] ** 2)
     return ElementLaplacian(
-        matrix=_unmixed_sum(derivative_matrix, dim),
+        matrix=matrix,
         derivative_matrix=derivative_matrix,
         centres=centres,
         condition=condition,
         fallback=fallback,
+        inexact=inexact,
         names=derivative_names(dim),
     )
 
@@ -459,17 +504,17 @@ def _unmixed_sum(derivative_matrix, dim) -> sp.csr_matrix:
     return (pick @ derivative_matrix).tocsr()
 
 
-def _least_squares_fit(mesh, centres, length, adjacency, targets, max_condition, square_condition):
-    """Weighted least-squares Taylor fit over the 2-ring for the elements ``targets``.
+def _fallback_members(mesh, centres, length, adjacency, targets):
+    """Members of the fallback of the elements ``targets``: their 2-ring, boundary elements also the ghost centres of
+    every element in their 2-ring.
 
-    Boundary elements also use the ghost centres of every element in their 2-ring. Weights
-    min(1, rho_n / rho_j)**(2 q), rho_n the distance of the n-th nearest member, with the first q of
-    ``FALLBACK_WEIGHT_POWERS`` that gives a well-conditioned system.
-    Returns ``(targets, sources, weights, condition)`` with dimensionless weights (m, n, k) acting on Delta f.
+    Returns ``(sources, dx_hat, near)``, each (m, k): the element whose value a member carries (-1: no member), the
+    dimensionless increments (m, k, dim) and whether the member belongs to the 1-ring (a ghost: if its owner does).
     """
     nel = len(centres)
     ring = adjacency + sp.identity(nel, format="csr")
-    two_ring = (ring[targets] @ ring).tocsr()
+    one_ring = ring[targets]
+    two_ring = (one_ring @ ring).tocsr()
     _, owner, ghost_points = ghost_centres(mesh)
     ghost_of = sp.csr_matrix((np.ones(owner.size), (owner, np.arange(owner.size))), shape=(nel, owner.size))
     # An interior element's fit stays free of the boundary condition, so it remains exact for every quadratic.
@@ -483,9 +528,21 @@ def _least_squares_fit(mesh, centres, length, adjacency, targets, max_condition,
     points = np.concatenate([centres[np.maximum(members, 0)], ghost_points[np.maximum(ghost_ids, 0)]], axis=1)
     sources = np.concatenate([members, np.where(ghost_ids >= 0, owner[np.maximum(ghost_ids, 0)], -1)], axis=1)
     dx_hat = (points - centres[targets, None, :]) / length[targets, None, None]
-    rho2 = np.sum(dx_hat**2, axis=-1)
-    present = (sources >= 0) & (rho2 > 0.0)
+    present = (sources >= 0) & (np.sum(dx_hat**2, axis=-1) > 0.0)
     sources = np.where(present, sources, -1)
+    near = np.any(sources[:, :, None] == _padded_rows(one_ring)[:, None, :], axis=2) & present
+    return sources, dx_hat, near
+
+
+def _least_squares_fit(targets, sources, dx_hat, max_condition, square_condition):
+    """Weighted least-squares Taylor fit over the members of ``_fallback_members`` for the elements ``targets``.
+
+    Weights min(1, rho_n / rho_j)**(2 q), rho_n the distance of the n-th nearest member, with the first q of
+    ``FALLBACK_WEIGHT_POWERS`` that gives a well-conditioned system.
+    Returns ``(weights, condition)`` with dimensionless weights (m, n, k) acting on Delta f.
+    """
+    present = sources >= 0
+    rho2 = np.sum(dx_hat**2, axis=-1)
     rows = taylor_matrix(dx_hat)
     # Weights min(1, rho_n / rho)**(2 q): the n nearest members (n = number of unknowns) count fully, farther ones
     # fade. A steep q keeps the fit local and nearly as accurate as the square stencil; where that is ill-conditioned
@@ -512,8 +569,58 @@ def _least_squares_fit(mesh, centres, length, adjacency, targets, max_condition,
             f"least-squares fit over the 2-ring; max_condition={max_condition:g}); the mesh is too thin or "
             f"degenerate there to determine second derivatives"
         )
-    condition = best
-    return targets, sources, weights, condition
+    return weights, best
+
+
+def _nonnegative_rows(sources, dx_hat, near):
+    """Laplacian rows c >= 0 of the fallback elements: sum_j c_j (f_j - f_i), exact for quadratics where possible.
+
+    Exactness for every quadratic means the moment conditions sum_j c_j D_j = (0, ..., 0, 1, ..., 1) on the Taylor
+    rows D_j (6.70): sum_j c_j dx_j = 0, sum_j c_j dx_jk dx_jp = 0 (k < p), sum_j c_j dx_jk**2 = 2. Among the
+    nonnegative solutions the one minimising sum_j (rho_j**q c_j)**2 (close members preferred, ties shared
+    symmetrically) is found as a nonnegative least-squares problem, the conditions weighted by
+    ``NONNEGATIVE_CONSTRAINT_WEIGHT`` over the penalty rows. The 1-ring is tried first, then the 2-ring; if neither
+    admits a solution the 2-ring's best nonnegative fit is kept and the element marked inexact. The conditions are
+    deliberately not normalised: in the dimensionless increments the fit then stays close to the moment tensor 2 I
+    as a whole (error O(|Hessian|)) instead of meeting a condition with tiny increments (across a sliver) at the
+    price of huge moments along it.
+    Returns ``(weights (m, k), inexact (m,))`` with dimensionless weights acting on Delta f = f_j - f_i.
+    """
+    dim = dx_hat.shape[-1]
+    moments = np.swapaxes(taylor_matrix(dx_hat), 1, 2)                 # (m, n, k)
+    n = moments.shape[1]
+    target = (np.arange(n) >= n - dim).astype(float)                  # only the unmixed second moments are 1
+    penalty = np.linalg.norm(dx_hat, axis=-1) ** NONNEGATIVE_PENALTY_POWER
+    big = NONNEGATIVE_CONSTRAINT_WEIGHT
+    weights = np.zeros(sources.shape)
+    inexact = np.zeros(len(sources), dtype=bool)
+    for e in range(len(sources)):
+        for members in (near[e], sources[e] >= 0):
+            conditions = moments[e][:, members]
+            system = np.vstack([big * conditions, np.diag(penalty[e, members])])
+            rhs = np.concatenate([big * target, np.zeros(members.sum())])
+            c = nnls(system, rhs, maxiter=20 * system.shape[1])[0]
+            exact = np.abs(conditions @ c - target).max() <= NONNEGATIVE_TOLERANCE
+            if exact:
+                break
+        weights[e, members] = c
+        inexact[e] = not exact
+    return weights, inexact
+
+
+def _with_rows(matrix, owner, sources, weights) -> sp.csr_matrix:
+    """``matrix`` with the rows ``owner`` replaced by sum_j weights_j (f_{sources_j} - f_owner), sources >= 0.
+
+    Members carrying the owner's own value (its ghosts) add nothing; the other rows keep their entries bit for bit.
+    """
+    matrix = matrix.tocoo()
+    keep = ~np.isin(matrix.row, owner)
+    own = np.broadcast_to(owner[:, None], sources.shape)
+    used = (sources >= 0) & (sources != own) & (weights != 0.0)
+    rows = np.concatenate([matrix.row[keep], own[used], own[used]])
+    cols = np.concatenate([matrix.col[keep], sources[used], own[used]])
+    vals = np.concatenate([matrix.data[keep], weights[used], -weights[used]])
+    return sp.csr_matrix((vals, (rows, cols)), shape=matrix.shape)
 
 
 def unit_cube_mesh(kind: str, n: int, *, grading: str = "none", perturb: float = 0.0, seed: int = 0):
