@@ -208,14 +208,19 @@ def _aggregate_envelope(rows):
     return out, shape
 
 
+def _errorbars(ax, elastic, sizes, prefix, names, colors):
+    """Mean ± 95 % of ``<prefix><name>`` against the particle count, granular (solid) and bonded (dashed)."""
+    for kind, marker in (("granular", "o"), ("bonded", "s")):
+        for name, color in zip(names, colors, strict=True):
+            e = [elastic[kind]["sizes"][str(n)][f"{prefix}{name}"] for n in sizes]
+            ax.errorbar(sizes, [x["mean"] for x in e], yerr=[x["half_width"] for x in e], marker=marker,
+                        color=color, ls="-" if kind == "granular" else "--", capsize=3, label=f"{kind}, {name}")
+
+
 def _plot(path, elastic, rate, gaps, strength, sizes):
     fig, axes = plt.subplots(2, 2, figsize=(12, 8.5))
     ax = axes[0, 0]
-    for kind, marker in (("granular", "o"), ("bonded", "s")):
-        for s, color in zip(SCHEMES, ("C0", "C1", "C2"), strict=True):
-            e = [elastic[kind]["sizes"][str(n)][f"E_error_{s}"] for n in sizes]
-            ax.errorbar(sizes, [x["mean"] for x in e], yerr=[x["half_width"] for x in e], marker=marker,
-                        color=color, ls="-" if kind == "granular" else "--", capsize=3, label=f"{kind}, {s}")
+    _errorbars(ax, elastic, sizes, "E_error_", SCHEMES, ("C0", "C1", "C2"))
     ax.set(xscale="log", xlabel="particles N", ylabel=f"|E/E(N={max(sizes)}) − 1|, mean ± 95 %",
            title="error of E against the large-N mean")
     twin = ax.twinx()
@@ -226,11 +231,7 @@ def _plot(path, elastic, rate, gaps, strength, sizes):
     twin.set(ylabel="runtime [s]: test (dotted), genesis (dash-dot)", yscale="log")
     ax.legend(fontsize=7)
     ax = axes[0, 1]
-    for kind, marker in (("granular", "o"), ("bonded", "s")):
-        for v, color in zip(VARIANTS, ("C3", "C4", "C5"), strict=True):
-            e = [elastic[kind]["sizes"][str(n)][f"ratio_E_sphere_{v}"] for n in sizes]
-            ax.errorbar(sizes, [x["mean"] for x in e], yerr=[x["half_width"] for x in e], marker=marker,
-                        color=color, ls="-" if kind == "granular" else "--", capsize=3, label=f"{kind}, {v}")
+    _errorbars(ax, elastic, sizes, "ratio_E_sphere_", VARIANTS, ("C3", "C4", "C5"))
     ax.axhline(1.0, color="grey", lw=0.8)
     ax.set(xscale="log", xlabel="particles N", ylabel="E measured (sphere) / Eq. (5.20)",
            title="measured / predicted Young's modulus")

@@ -126,6 +126,14 @@ def force_depth(rows, R_um):
     return np.array(pts).T
 
 
+def seconds_per_um_of_slide(curve) -> float:
+    """Slope of the cumulative wall time against the apex travel over the sliding increments of a force curve."""
+    sliding = np.asarray(curve["phase"]) == 1
+    if sliding.sum() <= 2:
+        return float("nan")
+    return float(np.polyfit(np.asarray(curve["slide"])[sliding] * 1e3, np.asarray(curve["wall_time"])[sliding], 1)[0])
+
+
 def default_scene(outdir: Path = RESULTS) -> dict:
     """Part 2 alone: the seed's default scene, its wall time and cost per µm of slide (``scratch_default.json``)."""
     outdir = Path(outdir)
@@ -133,8 +141,7 @@ def default_scene(outdir: Path = RESULTS) -> dict:
     print("[scratch] default scene: R = 50 um, d = 2 um, 100 um slide, 'default' mesh", flush=True)
     result = run_scratch(ScratchScene(), output=outdir / "scratch_runs" / "default_scene", vtu_every=10)
     curve = result.curves
-    sliding = curve["phase"] == 1
-    slope = float(np.polyfit(curve["slide"][sliding] * 1e3, curve["wall_time"][sliding], 1)[0])
+    slope = seconds_per_um_of_slide(curve)
     out = {"date": time.strftime("%Y-%m-%d %H:%M"), "host": platform.node(), "wall_time_s": result.wall_time,
            "elements": result.n_elements, "dofs": result.n_dofs, "increments": result.increments,
            "newton_iterations": result.newton_iterations, "cutbacks": result.cutbacks,
@@ -242,10 +249,7 @@ def main(outdir: Path = RESULTS, quick: bool = False) -> dict:
 
     # cost against sliding distance: the finest convergence run (the default scene is in scratch_default.json)
     cost_run = reference["name"]
-    curve = read_curve(outdir / "scratch_runs" / cost_run / "forces.csv")
-    sliding = curve["phase"] == 1
-    slope = float(np.polyfit(curve["slide"][sliding] * 1e3, curve["wall_time"][sliding], 1)[0]) \
-        if sliding.sum() > 2 else float("nan")
+    slope = seconds_per_um_of_slide(read_curve(outdir / "scratch_runs" / cost_run / "forces.csv"))
     elements = np.array([c["elements"] for c in convergence], dtype=float)
     times = np.array([c["wall_time_s"] for c in convergence])
     exponent = float(np.polyfit(np.log(elements), np.log(times), 1)[0]) if np.unique(elements).size > 1 else None

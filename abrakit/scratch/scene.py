@@ -71,6 +71,7 @@ __all__ = [
     "MESH_LEVELS",
     "ReusedPreconditioner",
     "SPECIMEN",
+    "DEMO_SCENE",
     "ST52",
     "TABLE_8_2",
     "ScratchResult",
@@ -83,6 +84,7 @@ __all__ = [
     "hertz_indentation",
     "nested_dissection",
     "run_scratch",
+    "scene_linear_solver",
     "st52_material",
     "zoned_axis",
 ]
@@ -463,6 +465,25 @@ class ReusedPreconditioner:
         raise LinearSolveError(f"GMRES with a fresh {self.kind} preconditioner did not converge")
 
 
+def scene_linear_solver(solver: Solver, kind: str = "auto"):
+    """The linear solver of a 3D contact scene for ``solver``'s free DOFs: ``"lu"`` (:class:`ReusedPreconditioner`
+    with a fresh LU in the :func:`nested_dissection` order), ``"amg"`` (GMRES with a reused AMG hierarchy, the
+    rigid-body modes as near-null space), ``"direct"`` (SuperLU in its own ordering) or ``"auto"`` (LU up to
+    120 000 free DOFs, AMG above)."""
+    check_option("linear_solver", kind, ("auto", "lu", "amg", "direct"))
+    free = solver.constraints.free
+    if kind == "auto":
+        kind = "lu" if free.size <= 120_000 else "amg"
+    points = solver.kin.basis.doflocs[:, free]
+    if kind == "lu":
+        return ReusedPreconditioner("lu", order=nested_dissection(points))
+    if kind == "amg":
+        component = np.zeros(solver.kin.ndof, dtype=int)
+        component[solver.kin.element_dofs] = np.arange(solver.kin.nbf) % 3
+        return ReusedPreconditioner("amg", near_null_space=rigid_body_modes(points, component[free]))
+    return DirectSolver()
+
+
 # ---- Newton with a backtracking line search ---------------------------------------------------------------------
 
 
@@ -487,9 +508,6 @@ class LineSearchSolver(Solver):
         cache = getattr(self, "_cache", None)
         key = (ctx.load_factor, ctx.delta, id(state_old))
         if cache is not None and cache[0] == key and np.array_equal(cache[1], u):
-            for term, pending in zip(self.extra_terms, cache[3], strict=True):
-                if hasattr(term, "_pending"):
-                    term._pending = pending
             return cache[2]
         self._last = (u.copy(), state_old, ctx, key)
         return super().evaluate(u, state_old, ctx)
@@ -515,15 +533,14 @@ class LineSearchSolver(Solver):
                 norm, evaluation = np.inf, None
             if not np.isfinite(norm):
                 norm = np.inf
-            pendings = [getattr(term, "_pending", None) for term in self.extra_terms]
             if best is None or norm < best[0]:
-                best = (norm, s, trial, evaluation, pendings)
+                best = (norm, s, trial, evaluation)
             if norm <= (self.growth_allowed if s == 1.0 else 1.0 - 1e-4 * s) * norm0:
                 break
             s *= 0.5
-        norm, s, trial, evaluation, pendings = best
+        norm, s, trial, evaluation = best
         if evaluation is not None:
-            self._cache = (key, trial, evaluation, pendings)
+            self._cache = (key, trial, evaluation)
         return s * du
 
 
@@ -636,7 +653,6 @@ def run_scratch(scene: ScratchScene = ScratchScene(), *, output=None, progress: 
     ``vtu_every``: field output every that many increments (and at the end of every phase); 0 disables it.
     """
     t_start = time.perf_counter()
-    check_option("linear_solver", linear_solver, ("auto", "lu", "amg", "direct"))
     spec = scene.mesh_spec
     path = scene.path
     specimen = build_specimen(scene)
@@ -663,18 +679,7 @@ def run_scratch(scene: ScratchScene = ScratchScene(), *, output=None, progress: 
                                      divergence_check_after=10)
     solver = LineSearchSolver(basis, material, specimen.conditions, loading=loading, extra_terms=[contact],
                               newton=newton, linear_solver="direct")
-    n_free = solver.constraints.free.size
-    kind = linear_solver if linear_solver != "auto" else ("lu" if n_free <= 120_000 else "amg")
-    free = solver.constraints.free
-    if kind == "amg":
-        component = np.zeros(solver.kin.ndof, dtype=int)
-        component[solver.kin.element_dofs] = np.arange(solver.kin.nbf) % 3
-        solver.linear_solver = ReusedPreconditioner(
-            "amg", near_null_space=rigid_body_modes(basis.doflocs[:, free], component[free]))
-    elif kind == "lu":
-        solver.linear_solver = ReusedPreconditioner("lu", order=nested_dissection(basis.doflocs[:, free]))
-    else:
-        solver.linear_solver = DirectSolver()
+    solver.linear_solver = scene_linear_solver(solver, linear_solver)
 
     out = Path(output) if output is not None else None
     writer = CurveWriter(out / "forces.csv", CURVE_COLUMNS) if out is not None else None
@@ -866,9 +871,7 @@ def hertz_indentation(h: float, penalty: float = 1.0, *, R: float = 0.05, d: flo
                               control=StepControl(initial=1.0 / steps, maximum=1.0 / steps, minimum=1e-4),
                               newton=NewtonOptions(residual_tol=1e-8, max_iterations=30, divergence_check_after=30),
                               linear_solver="direct")
-    if linear_solver == "lu":
-        solver.linear_solver = ReusedPreconditioner("lu", order=nested_dissection(
-            basis.doflocs[:, solver.constraints.free]))
+    solver.linear_solver = scene_linear_solver(solver, linear_solver)
     depths, forces = [0.0], [0.0]
 
     def on_step(result):
@@ -893,9 +896,13 @@ def hertz_indentation(h: float, penalty: float = 1.0, *, R: float = 0.05, d: flo
         elements=int(mesh.t.shape[1]), dofs=int(basis.N), wall_time=time.perf_counter() - t0)
 
 
+DEMO_SCENE = ScratchScene(slide=0.03, mesh="demo", size=(0.1, 0.015, 0.1), indent_steps=10)
+"""The coarse live scene of ``abrakit demo`` and the book: the seed's tip and depth, 100 µm long block, 30 µm slide."""
+
+
 def demo() -> str:
     """A coarse scratch (sphere R = 50 µm, d = 2 µm, 30 µm slide, St-52, demo mesh) in well under a minute."""
-    scene = ScratchScene(slide=0.03, mesh="demo", size=(0.1, 0.015, 0.1), indent_steps=10)
+    scene = DEMO_SCENE
     r = run_scratch(scene, vtu_every=0)
     lines = [
         f"Single scratch, half model: sphere R = {scene.indenter.radius * 1e3:g} um, d = {scene.depth * 1e3:g} um, "
