@@ -17,16 +17,16 @@ from __future__ import annotations
 from . import meshes
 from .assembly import Assembler, skfem_internal_force, skfem_tangent
 from .boundary import Constraints, Dirichlet, boundary_dofs, surface_load
-from .kinematics import Kinematics, vector_basis
-from .linsolve import AMGSolver, DirectSolver, LinearSolveError
+from .kinematics import Kinematics, TotalLagrangianKinematics, vector_basis
+from .linsolve import AMGSolver, DirectSolver, LinearSolveError, pardiso_available
 from .output import load_checkpoint
 from .solver import NewtonOptions, Solver, SolveResult, StepContext, StepControl, StepFailed, solve
 
 __all__ = [
     "AMGSolver", "Assembler", "Constraints", "Dirichlet", "DirectSolver", "Kinematics", "LinearSolveError",
-    "NewtonOptions", "SolveResult", "Solver", "StepContext", "StepControl", "StepFailed", "boundary_dofs",
-    "demo", "load_checkpoint", "meshes", "skfem_internal_force", "skfem_tangent", "solve", "surface_load",
-    "vector_basis",
+    "NewtonOptions", "SolveResult", "Solver", "StepContext", "StepControl", "StepFailed",
+    "TotalLagrangianKinematics", "boundary_dofs", "demo", "load_checkpoint", "meshes", "pardiso_available",
+    "skfem_internal_force", "skfem_tangent", "solve", "surface_load", "vector_basis",
 ]
 
 

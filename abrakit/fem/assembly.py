@@ -50,6 +50,7 @@ class Assembler:
         keys = np.repeat(np.arange(n, dtype=np.int64), np.diff(self.indptr)) * n + self.indices
         entry_keys = np.repeat(dofs, nbf, axis=1) * n + np.tile(dofs, (1, nbf))
         self.slot = np.searchsorted(keys, entry_keys).astype(np.int32)  # CSR position of each element entry
+        self._keys = keys                                                 # row * n + column, sorted
         self._comps = np.asarray(kinematics.components)
         self._chunk = max(1, _CHUNK_ENTRIES // (kinematics.nqp * nbf * nbf))
         b_bytes = 8 * kinematics.nel * kinematics.nqp * len(self._comps) * nbf
@@ -66,7 +67,7 @@ class Assembler:
     # ---- Eq. (4.37) --------------------------------------------------------------------------------------------
     def element_forces(self, stress: np.ndarray) -> np.ndarray:
         """Element internal forces int_e B^T sigma dV, ``(nel, nbf)``."""
-        return self.kin.element_forces(self._check("stress", stress, (6,)))
+        return self.kin.element_forces(self._check("stress", stress, (self.kin.measure_size,)))
 
     def internal_force(self, stress: np.ndarray) -> np.ndarray:
         """Global internal force vector of Eq. (4.37), ``(ndof,)``."""
@@ -86,7 +87,7 @@ class Assembler:
 
     def tangent_data(self, tangent: np.ndarray) -> np.ndarray:
         """Values of the global tangent in the fixed CSR pattern (``K.data``)."""
-        tangent = self._check("tangent", tangent, (6, 6))
+        tangent = self._check("tangent", tangent, (self.kin.measure_size,) * 2)
         nel = self.kin.nel
         chunks = [slice(start, min(start + self._chunk, nel)) for start in range(0, nel, self._chunk)]
         if self._one_scatter:
@@ -103,6 +104,17 @@ class Assembler:
     def tangent(self, tangent: np.ndarray) -> sp.csr_matrix:
         """Global tangent stiffness of Eq. (4.40) as CSR, ``(ndof, ndof)``."""
         return self.matrix(self.tangent_data(tangent))
+
+    def add_into(self, data: np.ndarray, K_extra: sp.spmatrix) -> bool:
+        """Add ``K_extra`` to the values ``data`` of the assembler's pattern in place, if its entries lie inside
+        the pattern (e.g. contact blocks on nodes of the mesh); returns False (``data`` untouched) otherwise."""
+        K_extra = sp.coo_matrix(K_extra)
+        keys = K_extra.row.astype(np.int64) * self.ndof + K_extra.col
+        pos = np.minimum(np.searchsorted(self._keys, keys), self.nnz - 1)
+        if not np.array_equal(self._keys[pos], keys):
+            return False
+        np.add.at(data, pos, K_extra.data)
+        return True
 
     def matrix(self, data: np.ndarray) -> sp.csr_matrix:
         """CSR matrix with the assembler's pattern and the given values."""

@@ -90,7 +90,10 @@ class Kinematics:
     bbar: bool = False
 
     @classmethod
-    def from_basis(cls, basis: skfem.CellBasis, bbar: bool = False) -> Kinematics:
+    def from_basis(cls, basis: skfem.CellBasis, bbar: bool = False, finite_strain: bool = False) -> Kinematics:
+        """Kinematics of ``basis``: small strain (optionally B-bar), or total Lagrangian with ``finite_strain``."""
+        if finite_strain and cls is Kinematics:
+            return TotalLagrangianKinematics.from_basis(basis, bbar)
         elem = basis.elem
         if not isinstance(elem, skfem.ElementVector) or elem.dim != basis.mesh.dim():
             raise TypeError(
@@ -139,6 +142,11 @@ class Kinematics:
     def components(self) -> tuple[int, ...]:
         """Mandel components carried by B: (0, 1, 5) in plane strain ((0, 1, 2, 5) with B-bar), all six in 3D."""
         return (BBAR_COMPONENTS if self.bbar else ACTIVE_COMPONENTS)[self.dim]
+
+    @property
+    def measure_size(self) -> int:
+        """Length of the strain (stress) vectors: 6 (Mandel) for small strain, 9 (F, P) for finite strain."""
+        return 6
 
     @property
     def table(self):
@@ -229,3 +237,56 @@ class Kinematics:
             f += (np.einsum("eak,e->eak", self.mean_grad_N, p_dx.sum(axis=1))
                   - np.einsum("eqak,eq->eak", self.grad_N, p_dx))
         return f.reshape(self.nel, -1)
+
+
+# Row-major components F_iJ -> 3 i + J carried in plane strain (F_33 = 1, no out-of-plane shear) and in 3D.
+GRADIENT_COMPONENTS = {2: (0, 1, 3, 4), 3: tuple(range(9))}
+
+
+@dataclass(frozen=True, eq=False)
+class TotalLagrangianKinematics(Kinematics):
+    """Finite-strain kinematics on the reference mesh (total Lagrangian): the "strain" measure is the deformation
+    gradient F = I + ∇_X u as 9-vectors (row-major F_iJ), the stress its work conjugate P (first Piola–Kirchhoff),
+    the tangent A = ∂P/∂F (9 × 9); B becomes the gradient operator G with (G u_e)_iJ = Σ_a u_ai ∂N_a/∂X_J, so
+
+        f_int = Σ_e ∫ Gᵀ P dV_0,        K = Σ_e ∫ Gᵀ A G dV_0                 (Eq. 4.37/4.40 in the reference frame)
+
+    and the assembly of :class:`~abrakit.fem.Assembler` serves both kinematics unchanged. Plane strain keeps
+    F_33 = 1 (components (11, 12, 21, 22) carried). B-bar has no finite-strain counterpart here (F-bar is not
+    implemented): ``bbar`` must be False.
+    """
+
+    def __post_init__(self):
+        if self.bbar:
+            raise ValueError("bbar must be False for finite-strain kinematics (F-bar is not implemented)")
+
+    @property
+    def components(self) -> tuple[int, ...]:
+        return GRADIENT_COMPONENTS[self.dim]
+
+    @property
+    def measure_size(self) -> int:
+        return 9
+
+    def strain(self, u: np.ndarray) -> np.ndarray:
+        """Deformation gradient F = I + ∇u, ``(nel, nqp, 9)`` (row-major; plane strain: F_33 = 1)."""
+        grad_u = self.displacement_gradient(u)
+        F = np.zeros(grad_u.shape[:2] + (3, 3))
+        F[..., : self.dim, : self.dim] = grad_u
+        F += np.eye(3)
+        return F.reshape(*F.shape[:2], 9)
+
+    def B(self, elements=slice(None)) -> np.ndarray:
+        """Gradient operator G, ``(n, nqp, ncomp, nbf)``: row (i, J) holds ∂N_a/∂X_J in the column of u_ai."""
+        grad_N = self.grad_N[elements]
+        n, nqp, nnode, dim = grad_N.shape
+        G = np.zeros((n, nqp, len(self.components), nnode, dim))
+        for row, comp in enumerate(self.components):
+            i, J = divmod(comp, 3)
+            G[:, :, row, :, i] = grad_N[..., J]
+        return G.reshape(n, nqp, len(self.components), nnode * dim)
+
+    def element_forces(self, stress: np.ndarray) -> np.ndarray:
+        """∫_e Gᵀ P dV_0 for every element, ``(nel, nbf)``, from P as 9-vectors ``(nel, nqp, 9)``."""
+        P = stress.reshape(*stress.shape[:2], 3, 3)[..., : self.dim, : self.dim] * self.dx[..., None, None]
+        return np.einsum("eqaJ,eqiJ->eai", self.grad_N, P, optimize=True).reshape(self.nel, -1)

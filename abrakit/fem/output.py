@@ -31,7 +31,11 @@ def meshio_cells(mesh):
 
 
 def cell_fields(stress: np.ndarray, state: dict) -> dict:
-    """Element averages of the Mandel stress (as tensor components), von Mises stress and state variables."""
+    """Element averages of the Mandel stress (as tensor components), von Mises stress and state variables.
+
+    Finite-strain models return P (9 components); their Cauchy stress ``state["cauchy"]`` is written instead."""
+    if stress.shape[-1] != 6:
+        stress = state["cauchy"]
     mean = stress.mean(axis=1)
     fields = {f"stress_{n}": mean[:, i] / (SQRT2 if i > 2 else 1.0) for i, n in enumerate(_TENSOR_NAMES)}
     dev = mean - (mean[:, :3].sum(axis=1) / 3.0)[:, None] * np.array([1, 1, 1, 0, 0, 0])
@@ -39,7 +43,7 @@ def cell_fields(stress: np.ndarray, state: dict) -> dict:
     nel, nqp = stress.shape[:2]
     for name, value in state.items():
         value = np.asarray(value)
-        if value.shape[:2] == (nel, nqp) and value.ndim <= 3:
+        if value.shape[:2] == (nel, nqp) and value.ndim <= 3 and name != "cauchy":
             fields[name] = value.mean(axis=1)
         elif value.shape[:1] == (nel,) and value.ndim <= 2:
             fields[name] = value

@@ -172,6 +172,9 @@ class Solver:
         a callable ``f(K, rhs)``.
     duration : time (s) of the whole load path (load factor 0 -> 1); ``dt = dlambda * duration``.
     bbar : use the B-bar operator (against volumetric locking) when ``basis`` is a scikit-fem basis.
+    finite_strain : total-Lagrangian kinematics (:class:`~abrakit.fem.kinematics.TotalLagrangianKinematics`):
+        the material then maps the deformation gradient F to P and ∂P/∂F (e.g.
+        :class:`~abrakit.materials.LogStrainPlasticity`).
     """
 
     def __init__(self, basis, material: Material, dirichlet: Sequence[Dirichlet] = (), *,
@@ -180,8 +183,9 @@ class Solver:
                  extra_terms: Sequence[Callable] = (),
                  monitors: dict[str, np.ndarray] | None = None,
                  control: StepControl | None = None, newton: NewtonOptions | None = None,
-                 linear_solver="auto", duration: float = 1.0, bbar: bool = False):
-        self.kin = basis if isinstance(basis, Kinematics) else Kinematics.from_basis(basis, bbar=bbar)
+                 linear_solver="auto", duration: float = 1.0, bbar: bool = False, finite_strain: bool = False):
+        self.kin = (basis if isinstance(basis, Kinematics)
+                    else Kinematics.from_basis(basis, bbar=bbar, finite_strain=finite_strain))
         self.assembler = Assembler(self.kin)
         self.material = material
         self.constraints = Constraints(dirichlet, self.kin.ndof)
@@ -233,8 +237,11 @@ class Solver:
     def _correction(self, response, extra_K, residual, new_step: bool) -> np.ndarray:
         cons = self.constraints
         data = self.assembler.tangent_data(response.tangent)
-        if extra_K:
-            K = self.assembler.matrix(data) + sum(extra_K)
+        # extra terms inside the mesh's pattern (contact blocks on its nodes) keep the pattern, and with it the
+        # linear solver's symbolic analysis; others fall back to a general sparse sum
+        outside = [K for K in extra_K if not self.assembler.add_into(data, K)]
+        if outside:
+            K = self.assembler.matrix(data) + sum(outside)
             K_II = cons.condense(sp.csr_matrix(K), same_pattern=False)
             diag_pos = None
         else:

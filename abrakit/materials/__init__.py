@@ -29,6 +29,7 @@ from .driver import (
     uniaxial_stress,
 )
 from .elastic import LinearElastic
+from .finite_strain import LogStrainPlasticity
 from .model_one import ModelIDamage
 from .model_two import ModelIIDamage, effective_damage_function, erve_strains
 from .plasticity import VonMisesPlasticity, plastic_step, uniaxial_hardening_modulus, uniaxial_yield_stress
@@ -45,6 +46,7 @@ __all__ = [
     "TABLE_7_2",
     "DriverError",
     "LinearElastic",
+    "LogStrainPlasticity",
     "Material",
     "MaterialResponse",
     "ModelIDamage",

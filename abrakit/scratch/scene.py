@@ -46,12 +46,12 @@ import scipy.sparse.linalg as spla
 import skfem
 
 from abrakit.fem import Dirichlet, LinearSolveError, NewtonOptions, Solver, StepControl, vector_basis
-from abrakit.fem.linsolve import DirectSolver, rigid_body_modes
-from abrakit.fem.output import cell_fields, meshio_cells
-from abrakit.io import CurveWriter, VtuSeries, write_json
-from abrakit.materials import LinearElastic, ModelIIDamage, VonMisesPlasticity
+from abrakit.fem.linsolve import DirectSolver, pardiso_available, rigid_body_modes
+from abrakit.io import write_json
+from abrakit.materials import LinearElastic, LogStrainPlasticity, ModelIIDamage, VonMisesPlasticity
+from abrakit.scratch.budget import VolumeBudget
 from abrakit.scratch.contact import penalty_from_stiffness
-from abrakit.scratch.contact_term import ContactForces, IndenterContact
+from abrakit.scratch.contact_term import IndenterContact
 from abrakit.scratch.groove import (
     GrooveMetrics,
     Profile,
@@ -62,6 +62,7 @@ from abrakit.scratch.groove import (
 )
 from abrakit.scratch.hertz import hertz_sphere
 from abrakit.scratch.indenters import ConicalIndenter, FineZone, ScratchPath, SphericalIndenter, check_path
+from abrakit.scratch.record import PHASES, ScratchRecorder
 from abrakit.validation import check_option, check_positive, check_range
 
 __all__ = [
@@ -247,6 +248,8 @@ class ScratchScene:
     indent_steps: int = 20
     unload_steps: int = 5
     slide_step: float | None = None
+    bbar: bool = False
+    kinematics: str = "small"
 
     def __post_init__(self):
         check_positive("depth", self.depth)
@@ -256,6 +259,10 @@ class ScratchScene:
         check_option("material", self.material, ("plastic", "elastic"))
         check_option("damage_rate", self.damage_rate, ("step", "work"))
         check_option("damage_energy", self.damage_energy, ("full", "tension"))
+        check_option("kinematics", self.kinematics, ("small", "finite"))
+        if self.kinematics == "finite" and (self.damage or self.bbar):
+            raise ValueError("kinematics='finite' supports the plastic and elastic materials without B-bar "
+                             "(damage=False, bbar=False)")
         if isinstance(self.mesh, str):
             check_option("mesh", self.mesh, tuple(MESH_LEVELS))
         check_positive("size", self.size)
@@ -466,22 +473,23 @@ class ReusedPreconditioner:
 
 
 def scene_linear_solver(solver: Solver, kind: str = "auto"):
-    """The linear solver of a 3D contact scene for ``solver``'s free DOFs: ``"lu"`` (:class:`ReusedPreconditioner`
-    with a fresh LU in the :func:`nested_dissection` order), ``"amg"`` (GMRES with a reused AMG hierarchy, the
-    rigid-body modes as near-null space), ``"direct"`` (SuperLU in its own ordering) or ``"auto"`` (LU up to
-    120 000 free DOFs, AMG above)."""
-    check_option("linear_solver", kind, ("auto", "lu", "amg", "direct"))
+    """The linear solver of a 3D contact scene for ``solver``'s free DOFs, all keeping their analysis across
+    Newton iterations: ``"pardiso"`` (:class:`~abrakit.fem.DirectSolver` on MKL PARDISO, METIS order), ``"lu"``
+    (the same on SuperLU in the :func:`nested_dissection` order), ``"amg"`` (GMRES with a reused AMG hierarchy,
+    the rigid-body modes as near-null space) or ``"auto"`` (PARDISO if installed, else LU; AMG above 120 000
+    free DOFs)."""
+    check_option("linear_solver", kind, ("auto", "pardiso", "lu", "amg"))
     free = solver.constraints.free
     if kind == "auto":
-        kind = "lu" if free.size <= 120_000 else "amg"
+        kind = "amg" if free.size > 120_000 else ("pardiso" if pardiso_available() else "lu")
     points = solver.kin.basis.doflocs[:, free]
+    if kind == "pardiso":
+        return DirectSolver("pardiso")
     if kind == "lu":
-        return ReusedPreconditioner("lu", order=nested_dissection(points))
-    if kind == "amg":
-        component = np.zeros(solver.kin.ndof, dtype=int)
-        component[solver.kin.element_dofs] = np.arange(solver.kin.nbf) % 3
-        return ReusedPreconditioner("amg", near_null_space=rigid_body_modes(points, component[free]))
-    return DirectSolver()
+        return DirectSolver("superlu", order=nested_dissection(points))
+    component = np.zeros(solver.kin.ndof, dtype=int)
+    component[solver.kin.element_dofs] = np.arange(solver.kin.nbf) % 3
+    return ReusedPreconditioner("amg", near_null_space=rigid_body_modes(points, component[free]))
 
 
 # ---- Newton with a backtracking line search ---------------------------------------------------------------------
@@ -581,6 +589,7 @@ class ScratchResult:
     state: dict
     specimen: Specimen
     contact: IndenterContact
+    budget: VolumeBudget | None = None
     output: Path | None = None
     notes: list = field(default_factory=list)
 
@@ -605,16 +614,13 @@ class ScratchResult:
             "groove_loaded": metrics(self.groove_loaded), "groove_unloaded": metrics(self.groove_unloaded),
             "notes": list(self.notes),
         }
+        if self.budget is not None:
+            out["volume_budget_um3"] = self.budget.as_dict(scale=1e9)
         if self.removed is not None:
             out["removed_volume_um3"] = self.removed.volume * 1e9
             out["removed_area_um2"] = None if self.removed.area is None else self.removed.area * 1e6
             out["removed_elements"] = self.removed.count
         return out
-
-
-CURVE_COLUMNS = ("step", "tau", "phase", "tip_y", "tip_z", "slide", "normal_force", "tangential_force",
-                 "contact_area", "max_penetration", "closed_nodes", "slipping_nodes", "iterations", "wall_time")
-PHASES = {"indentation": 0, "scratching": 1, "unloading": 2}
 
 
 def _segments(scene: ScratchScene, spec: SpecimenMesh):
@@ -631,15 +637,17 @@ def _segments(scene: ScratchScene, spec: SpecimenMesh):
     return segments
 
 
-def _section(specimen, u, z, depth, tol):
-    """Groove metrics of the spatial section at z (half profile), or (None, profile, reason)."""
-    mesh = specimen.mesh
+def _section(specimen, u, scene: ScratchScene, label: str, notes: list):
+    """(groove metrics, half profile) of the spatial section at mid-length; metrics None (and a note why) where
+    the profile has no groove."""
     disp = u[np.asarray(specimen.basis.nodal_dofs)].T
-    profile = profile_from_surface_nodes(mesh.p.T, disp, z)
+    profile = profile_from_surface_nodes(specimen.mesh.p.T, disp, scene.z_section)
     try:
-        return groove_metrics(profile.x, profile.y, half=True, depth=depth, tol=tol), profile, None
+        metrics = groove_metrics(profile.x, profile.y, half=True, depth=scene.depth, tol=2e-3 * scene.depth)
     except ValueError as exc:
-        return None, profile, str(exc)
+        notes.append(f"{label}: {exc}")
+        metrics = None
+    return metrics, profile
 
 
 def run_scratch(scene: ScratchScene = ScratchScene(), *, output=None, progress: bool = False, vtu_every: int = 10,
@@ -647,9 +655,7 @@ def run_scratch(scene: ScratchScene = ScratchScene(), *, output=None, progress: 
     """Run the single scratch ``scene``; write ``forces.csv``, ``fields/step.pvd`` and ``summary.json`` to
     ``output`` (if given) as it goes; return a :class:`ScratchResult`.
 
-    ``linear_solver``: "lu" (SuperLU in the :func:`nested_dissection` order, a fresh factorisation per Newton
-    correction), "amg" (GMRES with a reused AMG hierarchy), both :class:`ReusedPreconditioner`; "direct" (the
-    solver's SuperLU with its own ordering, slower); "auto": "lu" up to 120 000 free DOFs, "amg" above.
+    ``linear_solver``: "pardiso", "lu", "amg" or "auto", see :func:`scene_linear_solver`.
     ``vtu_every``: field output every that many increments (and at the end of every phase); 0 disables it.
     """
     t_start = time.perf_counter()
@@ -658,6 +664,9 @@ def run_scratch(scene: ScratchScene = ScratchScene(), *, output=None, progress: 
     specimen = build_specimen(scene)
     mesh, basis = specimen.mesh, specimen.basis
     material = st52_material(scene.material, scene.damage, scene.damage_energy)
+    finite = scene.kinematics == "finite"
+    if finite:
+        material = LogStrainPlasticity(material)
     c_N = penalty_from_stiffness(ST52["E"], specimen.top_layer, scene.penalty)
     contact = IndenterContact(basis, scene.indenter, path.position, c_N=c_N, mu=scene.mu)
 
@@ -678,75 +687,35 @@ def run_scratch(scene: ScratchScene = ScratchScene(), *, output=None, progress: 
     newton = newton or NewtonOptions(residual_tol=1e-4, increment_tol=1e-3, max_iterations=20,
                                      divergence_check_after=10)
     solver = LineSearchSolver(basis, material, specimen.conditions, loading=loading, extra_terms=[contact],
-                              newton=newton, linear_solver="direct")
+                              newton=newton, linear_solver="direct", bbar=scene.bbar,
+                              finite_strain=finite)
     solver.linear_solver = scene_linear_solver(solver, linear_solver)
 
     out = Path(output) if output is not None else None
-    writer = CurveWriter(out / "forces.csv", CURVE_COLUMNS) if out is not None else None
-    vtu = VtuSeries(out / "fields", stem="step") if (out is not None and vtu_every) else None
-    cells = meshio_cells(mesh) if vtu is not None else None
-    points = mesh.p.T
-    nodal = np.asarray(basis.nodal_dofs)
-    rows: list[dict] = []
-    counters = {"step": 0, "iterations": 0, "cutbacks": 0}
+    extra = (lambda st: {"effective_damage": material.effective_damage(st).mean(axis=1)}) if scene.damage else None
+    recorder = ScratchRecorder(path, contact, solver.kin, output=out, vtu_every=vtu_every, extra_fields=extra)
     u = np.zeros(basis.N)
     state = material.initial_state((solver.kin.nel, solver.kin.nqp))
-
-    def write_fields(tau, u_now, stress, state_now):
-        if vtu is None:
-            return
-        fields = cell_fields(stress, state_now)
-        fields = {k: v for k, v in fields.items() if np.ndim(v) == 1}
-        if scene.damage:
-            fields["effective_damage"] = material.effective_damage(state_now).mean(axis=1)
-        vtu.write(tau, points, cells, point_data={"displacement": u_now[nodal].T,
-                                                   "contact_pressure": contact.pressure_field(mesh.p.shape[1])},
-                  cell_data={k: [v] for k, v in fields.items()})
-
-    def on_step(result):
-        contact.on_step(result)
-        counters["step"] += 1
-        tau = float(result.load_factors[-1])
-        tip = path.position(tau)
-        f: ContactForces = contact.forces
-        row = {"step": counters["step"], "tau": tau, "phase": PHASES[path.phase(tau)], "tip_y": float(tip[1]),
-               "tip_z": float(tip[2]), "slide": float(tip[2] - path.z_start), "normal_force": f.normal,
-               "tangential_force": f.tangential, "contact_area": f.area, "max_penetration": f.max_penetration,
-               "closed_nodes": f.closed, "slipping_nodes": f.slipping,
-               "iterations": int(result.iterations[-1]), "wall_time": time.perf_counter() - t_start}
-        rows.append(row)
-        if writer is not None:
-            writer.write(**row)
-        if vtu is not None and counters["step"] % vtu_every == 0:
-            write_fields(tau, result.u, result.response.stress, result.state)
-
-    groove_loaded = groove_unloaded = profile_loaded = profile_unloaded = None
-    notes: list[str] = []
-    tol = 2e-3 * scene.depth
-    response = None
+    iterations = cutbacks = 0
+    grooves, notes = {}, []
     try:
         contact.reset(0.0, u)
         for start, end, dtau in _segments(scene, spec):
             solver.control = StepControl(initial=dtau, maximum=dtau, minimum=dtau * 1e-3, easy_iterations=7)
-            result = solver.run(start=start, end=end, u0=u, state0=state, progress=progress, on_step=on_step)
-            u, state, response = result.u, result.state, result.response
-            counters["iterations"] += int(result.iterations.sum())
-            counters["cutbacks"] += result.cutbacks
-            if vtu is not None and counters["step"] % vtu_every != 0:
-                write_fields(end, u, response.stress, state)
+            result = solver.run(start=start, end=end, u0=u, state0=state, progress=progress, on_step=recorder)
+            u, state = result.u, result.state
+            iterations += int(result.iterations.sum())
+            cutbacks += result.cutbacks
+            recorder.write_fields(end, u, result.response.stress, state)      # the end of every phase
             if scene.slide > 0.0 and end == 1.5:
-                groove_loaded, profile_loaded, why = _section(specimen, u, scene.z_section, scene.depth, tol)
-                if why:
-                    notes.append(f"tip in contact: {why}")
+                grooves["loaded"] = _section(specimen, u, scene, "tip in contact", notes)
         if scene.slide > 0.0:
-            groove_unloaded, profile_unloaded, why = _section(specimen, u, scene.z_section, scene.depth, tol)
-            if why:
-                notes.append(f"{'after unloading' if scene.unload else 'end of slide'}: {why}")
+            grooves["unloaded"] = _section(specimen, u, scene, "after unloading" if scene.unload else "end of slide",
+                                           notes)
     finally:
-        if writer is not None:
-            writer.close()
+        recorder.close()
 
-    curves = {k: np.array([r[k] for r in rows]) for k in CURVE_COLUMNS}
+    curves = recorder.curves()
     removed = None
     if scene.damage:
         kin = solver.kin
@@ -754,21 +723,25 @@ def run_scratch(scene: ScratchScene = ScratchScene(), *, output=None, progress: 
         window = (scene.z_section - 0.25 * scene.slide, scene.z_section + 0.25 * scene.slide) if scene.slide else None
         removed = removed_material(kin.dx.sum(axis=1), state["d"].max(axis=-1).mean(axis=1), material.d_max,
                                    half=True, centres=centres if window else None, z_range=window)
-    steady = (curves["phase"] == PHASES["scratching"]) & (curves["slide"] >= 2.0 * scene.footprint) \
-        if rows else np.zeros(0, bool)
+    steady = (curves["phase"] == PHASES["scratching"]) & (curves["slide"] >= 2.0 * scene.footprint)
     if scene.slide > 0.0 and not np.any(steady):
         steady = curves["phase"] == PHASES["scratching"]
     mean_fn = float(np.mean(curves["normal_force"][steady])) if np.any(steady) else float("nan")
     mean_ft = float(np.mean(curves["tangential_force"][steady])) if np.any(steady) else float("nan")
+    (groove_loaded, profile_loaded), (groove_unloaded, profile_unloaded) = (
+        grooves.get(k, (None, None)) for k in ("loaded", "unloaded"))
     result = ScratchResult(
         scene=scene, curves=curves, groove_loaded=groove_loaded, groove_unloaded=groove_unloaded,
         profile_loaded=profile_loaded, profile_unloaded=profile_unloaded, removed=removed,
         mean_normal_force=mean_fn, mean_tangential_force=mean_ft, n_elements=int(mesh.t.shape[1]),
-        n_dofs=int(basis.N), wall_time=time.perf_counter() - t_start, increments=counters["step"],
-        newton_iterations=counters["iterations"], cutbacks=counters["cutbacks"],
+        n_dofs=int(basis.N), wall_time=time.perf_counter() - t_start, increments=len(recorder.rows),
+        newton_iterations=iterations, cutbacks=cutbacks, budget=recorder.budget,
         linear_solver=getattr(solver.linear_solver, "name", "custom"), u=u, state=state, specimen=specimen,
         contact=contact, output=out, notes=notes)
     ls = solver.linear_solver
+    if hasattr(ls, "factorisations"):
+        result.notes.append(f"linear solver {ls.name}: {ls.analyses} analyses, {ls.factorisations} numerical "
+                            f"factorisations ({ls.times['factorise']:.1f} s), {ls.solves} solves")
     if hasattr(ls, "builds"):
         result.notes.append(f"linear solver {ls.name}: {ls.builds} factorisations, "
                             f"{int(np.sum(ls.iterations))} Krylov iterations for {len(ls.iterations)} solves")

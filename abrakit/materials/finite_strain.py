@@ -1,0 +1,199 @@
+"""Finite-strain J2 plasticity by the exponential map in logarithmic strains (Simo 1992; Simo & Hughes 1998, Box 9.1).
+
+Why this formulation: it keeps the small-strain return map of Eq. (6.59)–(6.61) (``VonMisesPlasticity``, radial
+return) *unchanged*, applied to the logarithmic elastic strain, and its consistent tangent needs only the first
+derivative of the matrix logarithm. The multiplicative split F = F_e F_p is carried by the plastic metric
+C_p⁻¹ = F_p⁻¹ F_p⁻ᵀ; plastic flow is isochoric (det F_p = 1 exactly, because the return is deviatoric).
+
+One step, from (C_p⁻¹, α_p) at t_m to the new deformation gradient F:
+
+    b_e^tr = F C_p⁻¹ Fᵀ,      ε_e^tr = ½ ln b_e^tr                         (elastic trial, spatial log strain)
+    τ, 𝔻, Δε_p = small-strain return map at ε_e^tr with ε_p = 0, α_p      (Eq. 6.59–6.61, Kirchhoff stress τ)
+    b_e = exp(2 (ε_e^tr − Δε_p)),  C_p⁻¹ = F⁻¹ b_e F⁻ᵀ                     (update, coaxial with b_e^tr)
+    P = τ F⁻ᵀ                                                              (first Piola–Kirchhoff stress)
+
+Consistent tangent A = ∂P/∂F (9 × 9, row-major index iJ): with l = δF F⁻¹,
+
+    δb_e^tr = l b + b lᵀ,    δτ = 𝔻 : ½ D ln(b)[δb_e^tr],    δP = δτ F⁻ᵀ − τ F⁻ᵀ δFᵀ F⁻ᵀ,
+
+and the derivative of the logarithm of a symmetric matrix b = Q diag(λ) Qᵀ by the Daleckii–Krein formula
+D ln(b)[h] = Q (Γ ∘ Qᵀ h Q) Qᵀ with the divided differences Γ_ij = (ln λ_i − ln λ_j)/(λ_i − λ_j), Γ_ii = 1/λ_i
+(computed as log1p(t)/(t λ_j), t = λ_i/λ_j − 1, so repeated eigenvalues, e.g. the undeformed state, are exact).
+
+Closed forms the tests check: a rigid rotation F = R gives τ = 0; uniaxial stress gives the small-strain
+uniaxial curve between the Kirchhoff stress τ_11 and the logarithmic strain ln λ (so P_11 = τ_11 / λ); the
+tangent equals a finite-difference derivative of P. Units: MPa, strains dimensionless.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass
+from functools import cached_property
+
+import numpy as np
+
+from .. import tensors as T
+from ..validation import check_finite, check_shape
+from .elastic import LinearElastic
+from .plasticity import VonMisesPlasticity
+
+__all__ = ["LogStrainPlasticity", "log_derivative", "log_divided_differences", "mandel_rotation"]
+
+_PAIRS = np.array(T.VOIGT_PAIRS)                               # Mandel component I <-> index pair (p_I, q_I)
+_WEIGHT = np.array([1.0, 1.0, 1.0, np.sqrt(2.0), np.sqrt(2.0), np.sqrt(2.0)])
+
+
+def log_divided_differences(lam: np.ndarray) -> np.ndarray:
+    """Γ_ij = (ln λ_i − ln λ_j)/(λ_i − λ_j), with Γ_ii = 1/λ_i, for eigenvalues ``lam`` (..., 3) > 0."""
+    li, lj = lam[..., :, None], lam[..., None, :]
+    t = li / lj - 1.0
+    small = np.abs(t) < 1e-5
+    safe_t = np.where(small, 1.0, t)
+    ratio = np.where(small, 1.0 - t / 2.0 + t * t / 3.0, np.log1p(safe_t) / safe_t)   # log1p(t)/t
+    return ratio / lj
+
+
+def log_derivative(vectors: np.ndarray, gamma: np.ndarray, h: np.ndarray) -> np.ndarray:
+    """D ln(b)[h] = Q (Γ ∘ Qᵀ h Q) Qᵀ for b = Q diag(λ) Qᵀ; ``h`` (..., [k,] 3, 3) symmetric directions."""
+    Q = vectors if h.ndim == vectors.ndim else vectors[..., None, :, :]
+    G = gamma if h.ndim == gamma.ndim else gamma[..., None, :, :]
+    Qt = np.swapaxes(Q, -1, -2)
+    return Q @ (G * (Qt @ h @ Q)) @ Qt
+
+
+def mandel_rotation(Q: np.ndarray) -> np.ndarray:
+    """R (..., 6, 6) with to_mandel(Qᵀ A Q) = R @ to_mandel(A) for symmetric A and rotations Q (..., 3, 3)."""
+    p, q = _PAIRS[:, 0], _PAIRS[:, 1]                # rows: components in the rotated basis (a, b) = (p_I, q_I)
+    i, j = p[None, :], q[None, :]                    # columns: global components (i, j) = (p_J, q_J)
+    a, b = p[:, None], q[:, None]
+    shear = (i != j).astype(float)
+    R = Q[..., i, a] * Q[..., j, b] + shear * Q[..., j, a] * Q[..., i, b]
+    return R * (_WEIGHT[:, None] / _WEIGHT[None, :])
+
+
+def _tangent(F_inv, Q, lam, D, P):
+    """A = ∂P/∂F (..., 9, 9) worked in the eigenbasis Q of b_e^tr, where D ln is elementwise (module docstring).
+
+    For δF = e_k ⊗ e_L: l̃ = Qᵀ δF F⁻¹ Q has l̃_ab = Q_ka G_Lb with G = F⁻¹ Q; the trial log strain changes by
+    δε̃_ab = ½ Γ_ab (l̃_ab λ_b + λ_a l̃_ba); δτ̃ = D̃ δε̃ with D̃ = R D Rᵀ; and
+    δP_iJ = Σ_ab Q_ia δτ̃_ab G_Jb − P_iL F⁻¹_Jk.
+    """
+    G = F_inv @ Q
+    l_t = Q[..., :, None, :, None] * G[..., None, :, None, :]             # (..., k, L, a, b)
+    h_t = l_t * lam[..., None, None, None, :] + lam[..., None, None, :, None] * np.swapaxes(l_t, -1, -2)
+    d_eps = 0.5 * log_divided_differences(lam)[..., None, None, :, :] * h_t
+    d_eps = d_eps[..., _PAIRS[:, 0], _PAIRS[:, 1]] * _WEIGHT                # Mandel in the eigenbasis, (.., k, L, 6)
+    R = mandel_rotation(Q)
+    D_t = R @ D @ np.swapaxes(R, -1, -2)
+    d_tau_v = np.einsum("...IJ,...klJ->...klI", D_t, d_eps)
+    d_tau = np.zeros(d_tau_v.shape[:-1] + (3, 3))
+    d_tau[..., _PAIRS[:, 0], _PAIRS[:, 1]] = d_tau_v / _WEIGHT
+    d_tau[..., _PAIRS[:, 1], _PAIRS[:, 0]] = d_tau_v / _WEIGHT
+    A = np.einsum("...ia,...klab,...Jb->...iJkl", Q, d_tau, G, optimize=True)
+    A -= P[..., :, None, None, :] * F_inv[..., None, :, :, None]                  # P_iL F⁻¹_Jk
+    return A.reshape(*A.shape[:-4], 9, 9)
+
+
+class DeferredTangentResponse:
+    """A :class:`~abrakit.materials.MaterialResponse` whose tangent is computed on first access: the Newton
+    solver never reads it at the converged iterate nor at rejected line-search trials, where it would be most
+    of the cost of a finite-strain update."""
+
+    def __init__(self, stress: np.ndarray, state: dict, tangent: Callable[[], np.ndarray]):
+        self.stress = stress
+        self.state = state
+        self._tangent = tangent
+
+    @cached_property
+    def tangent(self) -> np.ndarray:
+        return self._tangent()
+
+
+@dataclass(frozen=True)
+class LogStrainPlasticity:
+    """Finite-strain J2 plasticity (exponential map, logarithmic strains) around a small-strain ``base`` model.
+
+    ``base`` is :class:`~abrakit.materials.VonMisesPlasticity` (with ``integration="implicit"``, the radial
+    return the exponential map is exact for) or :class:`~abrakit.materials.LinearElastic` (then the model is the
+    Hencky hyperelastic material). ``update(state, F)`` takes the deformation gradient as 9-vectors (row-major
+    F_iJ) and returns P (9-vectors, MPa) and A = ∂P/∂F (9 × 9). The state holds ``Cp_inv`` (..., 3, 3),
+    ``alpha_p``, ``dissipation`` (accumulated r_p |Δε_p| per unit *reference* volume, MPa), the logarithmic
+    elastic strain ``eps_e`` and the Cauchy stress ``cauchy`` (Mandel, MPa) for output, and ``J`` = det F.
+    """
+
+    base: VonMisesPlasticity | LinearElastic
+
+    def __post_init__(self):
+        if not isinstance(self.base, (VonMisesPlasticity, LinearElastic)):
+            raise TypeError(f"base must be a VonMisesPlasticity or LinearElastic, got {type(self.base).__name__}")
+        if isinstance(self.base, VonMisesPlasticity) and self.base.integration != "implicit":
+            raise ValueError("base.integration must be 'implicit': the exponential map is the radial return in "
+                             "logarithmic strains")
+
+    @property
+    def plastic(self) -> bool:
+        return isinstance(self.base, VonMisesPlasticity)
+
+    @property
+    def E(self) -> float:
+        return self.base.E
+
+    @property
+    def nu(self) -> float:
+        return self.base.nu
+
+    def initial_state(self, shape: tuple[int, ...]) -> dict[str, np.ndarray]:
+        state = {"Cp_inv": np.broadcast_to(np.eye(3), (*shape, 3, 3)).copy(), "eps_e": np.zeros((*shape, 6)),
+                 "cauchy": np.zeros((*shape, 6)), "J": np.ones(shape)}
+        if self.plastic:
+            state.update(alpha_p=np.zeros(shape), dissipation=np.zeros(shape))
+        return state
+
+    def update(self, state, F, dt: float = 1.0, **loading) -> DeferredTangentResponse:
+        """P, A = ∂P/∂F and the new state at the deformation gradients ``F`` (..., 9) (see module docstring)."""
+        F = check_shape("F", np.asarray(F, dtype=float), (..., 9))
+        check_finite("F", F)
+        F = F.reshape(*F.shape[:-1], 3, 3)
+        J = np.linalg.det(F)
+        if np.any(J <= 0.0):
+            raise FloatingPointError(f"det F = {J.min():.3g} <= 0: an element is inverted (cut the step back)")
+        F_inv = np.linalg.inv(F)
+        F_inv_T = np.swapaxes(F_inv, -1, -2)
+        b_trial = F @ state["Cp_inv"] @ np.swapaxes(F, -1, -2)
+        b_trial = 0.5 * (b_trial + np.swapaxes(b_trial, -1, -2))
+        lam, Q = np.linalg.eigh(b_trial)
+        eps_trial = T.to_mandel(np.einsum("...ia,...a,...ja->...ij", Q, 0.5 * np.log(lam), Q))
+
+        shape = J.shape
+        base_state = self.base.initial_state(shape)
+        if self.plastic:
+            base_state["alpha_p"] = state["alpha_p"]
+            base_state["dissipation"] = state["dissipation"]
+        response = self.base.update(base_state, eps_trial, dt)
+        tau = response.stress
+        eps_e = eps_trial - response.state["eps_p"] if self.plastic else eps_trial
+        new_state = {"J": J, "eps_e": eps_e, "cauchy": tau / J[..., None]}
+        if self.plastic:
+            new_state.update(alpha_p=response.state["alpha_p"], dissipation=response.state["dissipation"])
+            # ε_e is coaxial with b_e^tr (radial return): its eigenvalues are the diagonal of Qᵀ ε_e Q
+            w = np.einsum("...ia,...ij,...ja->...a", Q, T.from_mandel(eps_e), Q)
+            b_e = np.einsum("...ia,...a,...ja->...ij", Q, np.exp(2.0 * w), Q)
+            Cp_inv = F_inv @ b_e @ np.swapaxes(F_inv, -1, -2)
+            new_state["Cp_inv"] = 0.5 * (Cp_inv + np.swapaxes(Cp_inv, -1, -2))
+        else:
+            new_state["Cp_inv"] = state["Cp_inv"]
+
+        P = T.from_mandel(tau) @ F_inv_T
+        return DeferredTangentResponse(P.reshape(*shape, 9), new_state,
+                                       lambda: _tangent(F_inv, Q, lam, response.tangent, P))
+
+    def stored_energy(self, state) -> np.ndarray:
+        """ψ(ε_e) + ½ K_H α_p² per unit reference volume (MPa): the small-strain energy of the log elastic strain."""
+        energy = self.base.elastic_energy(state["eps_e"])
+        if self.plastic:
+            energy = energy + 0.5 * self.base.K_H * state["alpha_p"] ** 2
+        return energy
+
+    def dissipation(self, state) -> np.ndarray:
+        return state["dissipation"] if self.plastic else np.zeros(state["J"].shape)

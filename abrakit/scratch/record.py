@@ -1,0 +1,99 @@
+"""What a scratch run records after every converged increment: forces, the volume audit, fields.
+
+:class:`ScratchRecorder` is the ``on_step`` callback of the scratch's solver. Per increment it commits the contact
+history, appends one row to ``forces.csv`` (flushed at once, so an interrupted run keeps every finished increment)
+with the contact resultants and the :mod:`~abrakit.scratch.budget` volume audit, and writes the fields to the VTU
+series every ``vtu_every`` increments. Units: N, mm, mm² and mm³ (whole grain).
+"""
+
+from __future__ import annotations
+
+import time
+from pathlib import Path
+
+import numpy as np
+
+from abrakit.fem.output import cell_fields, meshio_cells
+from abrakit.io import CurveWriter, VtuSeries
+from abrakit.scratch.budget import BoundaryFaces, VolumeBudget, volume_budget
+
+__all__ = ["BUDGET_COLUMNS", "CURVE_COLUMNS", "PHASES", "ScratchRecorder"]
+
+PHASES = {"indentation": 0, "scratching": 1, "unloading": 2}
+BUDGET_COLUMNS = tuple(f"V_{name}" for name in VolumeBudget._fields)
+"""Volume audit per increment, mm³ (whole grain): V_groove, V_shoulders, V_prow, V_sink, V_faces,
+V_volume_change (∫(J − 1) dV_0) and V_residual (the closure, round-off)."""
+CURVE_COLUMNS = ("step", "tau", "phase", "tip_y", "tip_z", "slide", "normal_force", "tangential_force",
+                 "contact_area", "max_penetration", "closed_nodes", "slipping_nodes", "iterations",
+                 "wall_time") + BUDGET_COLUMNS
+
+
+class ScratchRecorder:
+    """``on_step`` callback of a scratch run (see the module docstring).
+
+    path: the :class:`~abrakit.scratch.ScratchPath`; contact: the :class:`~abrakit.scratch.IndenterContact`;
+    kinematics: the solver's kinematics; output: directory or None; vtu_every: field output interval (0: none);
+    extra_fields: ``f(state) -> {name: (nel,) array}`` added to the VTU cell data (e.g. the effective damage).
+    """
+
+    def __init__(self, path, contact, kinematics, *, output=None, vtu_every: int = 10, extra_fields=None):
+        self.path = path
+        self.contact = contact
+        self.kin = kinematics
+        self.mesh = kinematics.basis.mesh
+        self.faces = BoundaryFaces(self.mesh)
+        self.extra_fields = extra_fields
+        self.rows: list[dict] = []
+        self.budget: VolumeBudget | None = None
+        self.t_start = time.perf_counter()
+        out = Path(output) if output is not None else None
+        self.curves_file = CurveWriter(out / "forces.csv", CURVE_COLUMNS) if out is not None else None
+        self.vtu_every = vtu_every if out is not None else 0
+        self.vtu = VtuSeries(out / "fields", stem="step") if self.vtu_every else None
+        self._cells = meshio_cells(self.mesh) if self.vtu is not None else None
+        self._last_fields = None
+
+    def budget_at(self, u: np.ndarray, tau: float) -> VolumeBudget:
+        """Volume audit of ``u`` split at the apex position of pseudo-time ``tau``."""
+        tip = self.path.position(tau)
+        return volume_budget(self.faces, self.kin, self.mesh.p, u, float(tip[2]),
+                             symmetry_factor=self.contact.symmetry_factor)
+
+    def __call__(self, result) -> None:
+        self.contact.on_step(result)
+        tau = float(result.load_factors[-1])
+        tip = self.path.position(tau)
+        f = self.contact.forces
+        self.budget = self.budget_at(result.u, tau)
+        row = {"step": len(self.rows) + 1, "tau": tau, "phase": PHASES[self.path.phase(tau)],
+               "tip_y": float(tip[1]), "tip_z": float(tip[2]), "slide": float(tip[2] - self.path.z_start),
+               "normal_force": f.normal, "tangential_force": f.tangential, "contact_area": f.area,
+               "max_penetration": f.max_penetration, "closed_nodes": f.closed, "slipping_nodes": f.slipping,
+               "iterations": int(result.iterations[-1]), "wall_time": time.perf_counter() - self.t_start}
+        row |= {f"V_{k}": v for k, v in self.budget._asdict().items()}
+        self.rows.append(row)
+        if self.curves_file is not None:
+            self.curves_file.write(**row)
+        if self.vtu is not None and len(self.rows) % self.vtu_every == 0:
+            self.write_fields(tau, result.u, result.response.stress, result.state)
+
+    def write_fields(self, tau, u, stress, state) -> None:
+        """Displacement, contact pressure and element fields at pseudo-time ``tau`` (once per ``tau``)."""
+        if self.vtu is None or self._last_fields == tau:
+            return
+        fields = {k: v for k, v in cell_fields(stress, state).items() if np.ndim(v) == 1}
+        if self.extra_fields is not None:
+            fields |= self.extra_fields(state)
+        nodal = np.asarray(self.kin.basis.nodal_dofs)
+        self.vtu.write(tau, self.mesh.p.T, self._cells,
+                       point_data={"displacement": u[nodal].T,
+                                   "contact_pressure": self.contact.pressure_field(self.mesh.p.shape[1])},
+                       cell_data={k: [v] for k, v in fields.items()})
+        self._last_fields = tau
+
+    def curves(self) -> dict[str, np.ndarray]:
+        return {k: np.array([r[k] for r in self.rows]) for k in CURVE_COLUMNS}
+
+    def close(self) -> None:
+        if self.curves_file is not None:
+            self.curves_file.close()

@@ -1,0 +1,201 @@
+"""Finite-strain J2 plasticity (exponential map in log strains) and the total-Lagrangian kinematics.
+
+Closed forms: uniaxial tension to 50 % logarithmic strain, a rigid rotation of 90°, isochoric plastic flow
+(ln J = tr τ / 3K); derivatives against finite differences (material tangent, matrix-log derivative, global
+stiffness); the small-strain limit; clear refusals.
+"""
+
+import numpy as np
+import pytest
+import scipy.linalg
+import skfem
+
+from abrakit import tensors as T
+from abrakit.fem import Assembler, Dirichlet, Kinematics, NewtonOptions, Solver, StepControl, vector_basis
+from abrakit.materials import LinearElastic, LogStrainPlasticity, VonMisesPlasticity
+from abrakit.materials.finite_strain import log_derivative, log_divided_differences, mandel_rotation
+
+E, NU, R_P, K_H = 210000.0, 0.33, 289.9, 666.7
+PLASTIC = LogStrainPlasticity(VonMisesPlasticity(E, NU, R_P, K_H, integration="implicit"))
+ELASTIC = LogStrainPlasticity(LinearElastic(E, NU))
+
+
+def rotation_z(angle):
+    c, s = np.cos(angle), np.sin(angle)
+    return np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]])
+
+
+def fd_tangent(material, state, F, h=1e-7):
+    columns = []
+    for k in range(9):
+        step = np.zeros(9)
+        step[k] = h
+        columns.append((material.update(state, F + step).stress - material.update(state, F - step).stress) / (2 * h))
+    return np.stack(columns, axis=-1)
+
+
+def unit_cube(n=2):
+    axis = np.linspace(0.0, 1.0, n + 1)
+    mesh = skfem.MeshHex.init_tensor(axis, axis, axis)
+    tol = 1e-9
+    return mesh.with_boundaries({"x0": lambda x: x[0] < tol, "y0": lambda x: x[1] < tol,
+                                 "z0": lambda x: x[2] < tol, "x1": lambda x: x[0] > 1 - tol})
+
+
+# ---- the matrix logarithm and its derivative --------------------------------------------------------------------
+
+
+def test_log_divided_differences_are_continuous_through_repeated_eigenvalues():
+    lam = np.array([[2.0, 2.0, 2.0 * (1 + 1e-9)], [1.0, 3.0, 0.5]])
+    G = log_divided_differences(lam)
+    assert np.allclose(np.diagonal(G, axis1=-2, axis2=-1), 1.0 / lam)
+    assert G[0, 0, 2] == pytest.approx(1.0 / 2.0, rel=1e-8)
+    assert G[1, 0, 1] == pytest.approx(np.log(3.0) / 2.0, rel=1e-14)
+
+
+@pytest.mark.parametrize("spread", [0.3, 1e-7, 0.0])
+def test_log_derivative_matches_finite_differences_of_the_matrix_log(spread):
+    rng = np.random.default_rng(3)
+    Q = np.linalg.qr(rng.standard_normal((3, 3)))[0]
+    b = Q @ np.diag([1.2, 1.2 + spread, 0.8]) @ Q.T
+    h = rng.standard_normal((3, 3))
+    h = h + h.T
+    lam, vec = np.linalg.eigh(b)
+    exact = log_derivative(vec, log_divided_differences(lam), h)
+    eps = 1e-6
+    fd = (scipy.linalg.logm(b + eps * h) - scipy.linalg.logm(b - eps * h)).real / (2 * eps)
+    assert np.allclose(exact, fd, atol=1e-7)
+
+
+def test_mandel_rotation_rotates_symmetric_tensors():
+    rng = np.random.default_rng(4)
+    Q = np.linalg.qr(rng.standard_normal((5, 3, 3)))[0]
+    A = rng.standard_normal((5, 3, 3))
+    A = A + np.swapaxes(A, -1, -2)
+    rotated = np.swapaxes(Q, -1, -2) @ A @ Q
+    assert np.allclose(np.einsum("...IJ,...J->...I", mandel_rotation(Q), T.to_mandel(A)), T.to_mandel(rotated))
+
+
+# ---- material point --------------------------------------------------------------------------------------------
+
+
+def test_a_rigid_rotation_of_90_degrees_gives_zero_stress():
+    for material in (PLASTIC, ELASTIC):
+        r = material.update(material.initial_state(()), rotation_z(np.pi / 2).ravel())
+        assert np.abs(r.stress).max() < 1e-9
+        assert np.abs(r.state["cauchy"]).max() < 1e-9
+
+
+def test_a_rotation_after_plastic_flow_rotates_the_cauchy_stress_and_keeps_its_invariants():
+    F = np.diag([1.1, 0.97, 0.95])
+    first = PLASTIC.update(PLASTIC.initial_state(()), F.ravel())
+    assert first.state["alpha_p"] > 0
+    R = rotation_z(np.pi / 2)
+    rotated = PLASTIC.update(first.state, (R @ F).ravel())      # same stretch, then turned by 90 degrees
+    same = PLASTIC.update(first.state, F.ravel())
+    sigma, sigma_r = T.from_mandel(same.state["cauchy"]), T.from_mandel(rotated.state["cauchy"])
+    assert np.allclose(sigma_r, R @ sigma @ R.T, atol=1e-8)
+    assert rotated.state["alpha_p"] == pytest.approx(same.state["alpha_p"], rel=1e-12)
+
+
+@pytest.mark.parametrize("material", [PLASTIC, ELASTIC], ids=["plastic", "elastic"])
+def test_consistent_tangent_matches_finite_differences(material):
+    rng = np.random.default_rng(0)
+    F0 = np.eye(3) + 0.05 * rng.standard_normal((6, 3, 3))
+    first = material.update(material.initial_state((6,)), F0.reshape(6, 9))
+    F1 = (F0 + 0.02 * rng.standard_normal((6, 3, 3))).reshape(6, 9)
+    F1[0] = np.eye(3).ravel()                                 # repeated eigenvalues of b_e^tr
+    F1[1] = (np.eye(3) + 1e-9 * rng.standard_normal((3, 3))).ravel()
+    exact = material.update(first.state, F1).tangent
+    fd = fd_tangent(material, first.state, F1)
+    assert np.abs(exact - fd).max() <= 1e-6 * np.abs(fd).max()
+
+
+def test_plastic_flow_is_isochoric_so_J_is_the_elastic_volume_change():
+    rng = np.random.default_rng(1)
+    F = np.eye(3) + 0.2 * rng.standard_normal((50, 3, 3))
+    F[np.linalg.det(F) <= 0.2] = np.eye(3)
+    r = PLASTIC.update(PLASTIC.initial_state((50,)), F.reshape(50, 9))
+    assert np.mean(r.state["alpha_p"] > 0) > 0.5
+    K = E / (3 * (1 - 2 * NU))
+    kirchhoff_mean = r.state["J"] * r.state["cauchy"][:, :3].sum(axis=1) / 3
+    assert np.allclose(np.log(r.state["J"]), kirchhoff_mean / K, rtol=1e-12, atol=1e-14)
+    assert np.allclose(np.linalg.det(r.state["Cp_inv"]), 1.0, rtol=1e-12)   # det F_p = 1
+
+
+def test_small_strain_limit_is_the_small_strain_model():
+    small = VonMisesPlasticity(E, NU, R_P, K_H, integration="implicit")
+    grad = 1e-7 * np.array([[1.0, 0.3, 0.0], [0.3, -0.5, 0.2], [0.0, 0.2, 0.1]])
+    finite = ELASTIC.update(ELASTIC.initial_state(()), (np.eye(3) + grad).ravel())
+    linear = small.update(small.initial_state(()), T.to_mandel(grad))
+    # they differ at second order in the displacement gradient, |grad u|^2 E ~ 1e-14 * 2e5 MPa
+    assert np.abs(finite.stress.reshape(3, 3) - T.from_mandel(linear.stress)).max() <= 1e-8
+
+
+def test_bad_input_is_refused():
+    with pytest.raises(ValueError, match="integration"):
+        LogStrainPlasticity(VonMisesPlasticity(E, NU, R_P, K_H))
+    with pytest.raises(TypeError, match="base"):
+        LogStrainPlasticity("steel")
+    with pytest.raises(ValueError, match="F"):
+        PLASTIC.update(PLASTIC.initial_state(()), np.eye(3))
+    with pytest.raises(FloatingPointError, match="inverted"):          # the solver cuts such a step back
+        PLASTIC.update(PLASTIC.initial_state(()), np.diag([1.0, 1.0, -1.0]).ravel())
+    with pytest.raises(ValueError, match="bbar"):
+        Kinematics.from_basis(vector_basis(unit_cube(1)), bbar=True, finite_strain=True)
+
+
+# ---- finite elements -------------------------------------------------------------------------------------------
+
+
+def test_uniaxial_tension_to_50_percent_log_strain_follows_the_closed_form():
+    """Kirchhoff stress against ln(stretch) is the small-strain 1D curve: tau = E eps, then
+    tau = (sigma_0 + H eps) / (1 + H/E) with sigma_0 = sqrt(3/2) r_p, H = 1.5 K_H; the face force is
+    P_11 = tau / lambda."""
+    mesh = unit_cube(2)
+    basis = vector_basis(mesh)
+    stretch = np.exp(0.5)
+    bcs = [Dirichlet.on(basis, "x0", "x"), Dirichlet.on(basis, "y0", "y"), Dirichlet.on(basis, "z0", "z"),
+           Dirichlet.on(basis, "x1", "x", stretch - 1.0, name="end")]
+    solver = Solver(basis, PLASTIC, bcs, finite_strain=True, control=StepControl(initial=0.02, maximum=0.05),
+                    newton=NewtonOptions(residual_tol=1e-10))
+    result = solver.run(progress=False)
+    lam = 1.0 + result.curves["u_end"]
+    eps = np.log(lam)
+    sigma_0, H = np.sqrt(1.5) * R_P, 1.5 * K_H
+    tau = np.where(eps < sigma_0 / E, E * eps, (sigma_0 + H * eps) / (1 + H / E))
+    assert eps[-1] == pytest.approx(0.5)
+    assert np.allclose(result.curves["F_end"], tau / lam, rtol=1e-8, atol=1e-8)
+    assert result.iterations[1:].max() <= 6                          # quadratic convergence with the tangent
+
+
+def test_rigidly_rotated_mesh_has_no_internal_force():
+    mesh = unit_cube(1)
+    kin = Kinematics.from_basis(vector_basis(mesh), finite_strain=True)
+    R = rotation_z(np.pi / 2)
+    u = np.zeros(kin.ndof)
+    u[kin.basis.nodal_dofs] = (R - np.eye(3)) @ mesh.p
+    F = kin.strain(u)
+    assert np.allclose(F.reshape(-1, 3, 3), R)
+    response = PLASTIC.update(PLASTIC.initial_state((kin.nel, kin.nqp)), F)
+    assert np.abs(Assembler(kin).internal_force(response.stress)).max() < 1e-8
+
+
+@pytest.mark.parametrize("dim", [2, 3])
+def test_global_stiffness_is_the_derivative_of_the_internal_force(dim):
+    axis = np.linspace(0.0, 1.0, 3)
+    mesh = skfem.MeshQuad.init_tensor(axis, axis) if dim == 2 else skfem.MeshHex.init_tensor(axis, axis, axis)
+    kin = Kinematics.from_basis(vector_basis(mesh), finite_strain=True)
+    asm = Assembler(kin)
+    rng = np.random.default_rng(2)
+    state = PLASTIC.initial_state((kin.nel, kin.nqp))
+    u = 0.03 * rng.standard_normal(kin.ndof)
+
+    def force(v):
+        return asm.internal_force(PLASTIC.update(state, kin.strain(v)).stress)
+
+    K = asm.tangent(PLASTIC.update(state, kin.strain(u)).tangent).toarray()
+    direction = rng.standard_normal(kin.ndof)
+    h = 1e-7
+    fd = (force(u + h * direction) - force(u - h * direction)) / (2 * h)
+    assert np.allclose(K @ direction, fd, rtol=1e-5, atol=1e-6 * np.abs(fd).max())

@@ -1,0 +1,84 @@
+"""The volume audit of a scratch: exact closure, an analytic field, and the physics it must show.
+
+- any displacement field: shoulders + prow + faces − groove − sink = ∫(J − 1) dV_0 to round-off;
+- a uniform settlement of the top by δ: groove + sink = δ A_top = −∫(J − 1) dV_0, nothing else moves;
+- a finite-strain plastic scratch: the volume change is purely elastic, ∫(J − 1) = ∫(exp(tr τ / 3K) − 1),
+  so plastic flow loses no volume; a small-strain one loses some (its J is not conserved), which the audit shows.
+"""
+
+import numpy as np
+import pytest
+
+from abrakit.fem import Kinematics
+from abrakit.scratch.budget import BoundaryFaces, volume_budget
+from abrakit.scratch.scene import ST52, ScratchScene, SpecimenMesh, build_specimen, run_scratch
+
+TINY_BLOCK = (0.06, 0.015, 0.08)
+TINY_MESH = SpecimenMesh(h=0.003, h_z=0.004, h_y=0.001, growth=1.6, width=1.6)
+SCENE = ScratchScene(depth=0.0008, slide=0.02, mesh=TINY_MESH, size=TINY_BLOCK, indent_steps=4, unload_steps=2)
+
+
+@pytest.fixture(scope="module")
+def specimen():
+    spec = build_specimen(SCENE)
+    return spec, Kinematics.from_basis(spec.basis), BoundaryFaces(spec.mesh)
+
+
+def test_the_budget_closes_to_round_off_for_any_displacement(specimen):
+    spec, kin, faces = specimen
+    u = 1e-3 * np.random.default_rng(1).standard_normal(spec.basis.N)        # every face moves
+    b = volume_budget(faces, kin, spec.mesh.p, u, z_tip=0.04)
+    assert abs(b.faces) > 0 and min(b.groove, b.shoulders, b.prow, b.sink) > 0
+    assert abs(b.residual) <= 1e-12 * max(b.groove, b.shoulders, abs(b.volume_change))
+
+
+def test_a_uniform_settlement_of_the_top_is_all_groove_and_volume_change(specimen):
+    spec, kin, faces = specimen
+    thickness, strain = TINY_BLOCK[1], -0.01
+    y = kin.basis.doflocs[1]
+    u = np.zeros(spec.basis.N)
+    u[spec.basis.nodal_dofs[1]] = strain * (spec.mesh.p[1] + thickness)        # u_y = eps (y + t), bottom fixed
+    assert np.isclose(y.min(), -thickness)
+    b = volume_budget(faces, kin, spec.mesh.p, u, z_tip=0.04)
+    area = 2 * 0.5 * TINY_BLOCK[0] * TINY_BLOCK[2]                               # whole grain: twice the half top
+    assert b.groove + b.sink == pytest.approx(-strain * thickness * area, rel=1e-12)
+    assert b.volume_change == pytest.approx(strain * thickness * area, rel=1e-12)
+    assert b.shoulders == b.prow == 0.0 and b.faces == pytest.approx(0.0, abs=1e-18)
+    assert b.sink / (b.groove + b.sink) == pytest.approx((TINY_BLOCK[2] - 0.04) / TINY_BLOCK[2], rel=1e-12)
+
+
+@pytest.fixture(scope="module")
+def scratches():
+    return {kin: run_scratch(SCENE.with_(kinematics=kin), vtu_every=0) for kin in ("small", "finite")}
+
+
+def test_every_increment_of_a_scratch_closes_its_budget(scratches):
+    for r in scratches.values():
+        c = r.curves
+        scale = np.maximum(c["V_groove"], 1e-12)
+        assert np.all(np.abs(c["V_residual"]) <= 1e-10 * scale)
+        assert r.summary()["volume_budget_um3"]["groove"] == pytest.approx(c["V_groove"][-1] * 1e9)
+
+
+def test_finite_strain_plastic_flow_changes_volume_only_elastically(scratches):
+    r = scratches["finite"]
+    K = ST52["E"] / (3 * (1 - 2 * ST52["nu"]))
+    st = r.state
+    kin = Kinematics.from_basis(r.specimen.basis)
+    kirchhoff_mean = st["J"] * st["cauchy"][..., :3].sum(axis=-1) / 3
+    elastic = 2 * np.sum((np.exp(kirchhoff_mean / K) - 1) * kin.dx)
+    assert np.any(st["alpha_p"] > 0.05)                                         # well into the plastic range
+    assert r.budget.volume_change == pytest.approx(elastic, rel=1e-9)
+
+
+def test_small_strain_kinematics_lose_volume_beyond_the_elastic_change(scratches):
+    """Small strain conserves tr(eps) in plastic flow, not J: its int(J - 1) dV exceeds its own elastic part
+    int tr(eps_e) dV = int tr(sigma)/3K dV by the second-order terms of det(I + grad u); finite strain has no
+    such excess (test above), so its volume change is the smaller one."""
+    r = scratches["small"]
+    kin = Kinematics.from_basis(r.specimen.basis)
+    eps_e = r.state["eps"] - r.state["eps_p"]                            # Mandel; eps_p is deviatoric
+    elastic = 2 * np.sum(eps_e[..., :3].sum(axis=-1) * kin.dx)
+    kinematic_loss = r.budget.volume_change - elastic
+    assert kinematic_loss < -0.05 * r.budget.groove
+    assert abs(r.budget.volume_change) > abs(scratches["finite"].budget.volume_change)
