@@ -11,9 +11,15 @@ import scipy.linalg
 import skfem
 
 from abrakit import tensors as T
+from abrakit.compiled import HAVE_NUMBA
 from abrakit.fem import Assembler, Dirichlet, Kinematics, NewtonOptions, Solver, StepControl, vector_basis
 from abrakit.materials import LinearElastic, LogStrainPlasticity, VonMisesPlasticity
-from abrakit.materials.finite_strain import log_derivative, log_divided_differences, mandel_rotation
+from abrakit.materials.finite_strain import (
+    log_derivative,
+    log_divided_differences,
+    mandel_rotation,
+    material_tangent,
+)
 
 E, NU, R_P, K_H = 210000.0, 0.33, 289.9, 666.7
 PLASTIC = LogStrainPlasticity(VonMisesPlasticity(E, NU, R_P, K_H, integration="implicit"))
@@ -199,3 +205,29 @@ def test_global_stiffness_is_the_derivative_of_the_internal_force(dim):
     h = 1e-7
     fd = (force(u + h * direction) - force(u - h * direction)) / (2 * h)
     assert np.allclose(K @ direction, fd, rtol=1e-5, atol=1e-6 * np.abs(fd).max())
+
+
+@pytest.mark.skipif(not HAVE_NUMBA, reason="numba (extra 'fast') not installed")
+def test_compiled_tangent_equals_the_numpy_one():
+    rng = np.random.default_rng(5)
+    F = (np.eye(3) + 0.1 * rng.standard_normal((40, 3, 3))).reshape(40, 9)
+    F[0] = np.eye(3).ravel()
+    state = PLASTIC.update(PLASTIC.initial_state((40,)), F).state
+    F2 = F + 0.02 * rng.standard_normal((40, 9))
+    args = _tangent_arguments(PLASTIC, state, F2)
+    compiled, vectorised = material_tangent(*args, compiled=True), material_tangent(*args, compiled=False)
+    assert np.abs(compiled - vectorised).max() <= 1e-12 * np.abs(vectorised).max()
+
+
+def _tangent_arguments(material, state, F):
+    """(F⁻¹, Q, λ, D, P) of an update, as :func:`material_tangent` takes them (recomputed here independently)."""
+    F = F.reshape(-1, 3, 3)
+    F_inv = np.linalg.inv(F)
+    b = F @ state["Cp_inv"] @ np.swapaxes(F, -1, -2)
+    lam, Q = np.linalg.eigh(0.5 * (b + np.swapaxes(b, -1, -2)))
+    eps = T.to_mandel(np.einsum("...ia,...a,...ja->...ij", Q, 0.5 * np.log(lam), Q))
+    base = material.base
+    base_state = base.initial_state(lam.shape[:-1]) | {"alpha_p": state["alpha_p"]}
+    small = base.update(base_state, eps)
+    P = T.from_mandel(small.stress) @ np.swapaxes(F_inv, -1, -2)
+    return F_inv, Q, lam, small.tangent, P

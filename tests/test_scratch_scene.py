@@ -84,6 +84,17 @@ def test_no_node_penetrates_the_tip_more_than_the_penalty_allows(hertz_levels):
         assert 0.0 < level.max_penetration <= 1.05 * level.allowed_penetration
 
 
+def test_hertz_holds_under_finite_strain(hertz_levels):
+    """At d/R = 1 % the finite-strain (Hencky, total Lagrangian) indentation agrees with the small-strain one to
+    O(d/R) and keeps the Hertz tolerance of the fine level."""
+    a = math.sqrt(0.05 * 5e-4)
+    finite = hertz_indentation(a / 2, 10.0, kinematics="finite")
+    small = hertz_levels[1]
+    assert abs(finite.error) <= 0.03
+    assert finite.force[-1] == pytest.approx(small.force[-1], rel=0.01)
+    assert finite.radius_bracket[0] < finite.hertz_radius < finite.radius_bracket[1]
+
+
 def test_penalty_alone_converges_to_the_stiff_limit():
     """Same mesh, penalty raised: the penalty's softening (-p/c_N penetration) disappears."""
     a = math.sqrt(0.05 * 5e-4)
@@ -104,10 +115,10 @@ def test_first_contact_increment_converges_or_is_cut_back():
 # ---- friction, symmetry, penetration while sliding ---------------------------------------------------------------
 
 
-@pytest.fixture(scope="module")
-def elastic_slide():
+@pytest.fixture(scope="module", params=["small", "finite"])
+def elastic_slide(request):
     scene = ScratchScene(material="elastic", depth=0.0008, slide=0.02, unload=False, mesh=TINY_MESH,
-                         size=TINY_BLOCK, indent_steps=3)
+                         size=TINY_BLOCK, indent_steps=3, kinematics=request.param)
     return run_scratch(scene, vtu_every=0)
 
 

@@ -11,14 +11,7 @@ from __future__ import annotations
 
 import math
 
-try:
-    from numba import njit
-    HAVE_NUMBA = True
-except ImportError:  # pragma: no cover - numba is an optional extra
-    HAVE_NUMBA = False
-
-    def njit(*args, **kwargs):
-        return (lambda f: f) if not (args and callable(args[0])) else args[0]
+from ..compiled import HAVE_NUMBA, njit
 
 __all__ = ["HAVE_NUMBA", "linear_contacts"]
 

@@ -37,7 +37,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-__all__ = ["VolumeBudget", "BoundaryFaces", "volume_budget"]
+__all__ = ["BoundaryFaces", "SteadyRates", "VolumeBudget", "plateau_onset", "steady_rates", "volume_budget"]
 
 _GAUSS = np.array([-1.0, 1.0]) / np.sqrt(3.0)
 
@@ -138,3 +138,51 @@ def volume_budget(faces: BoundaryFaces, kinematics, points: np.ndarray, u: np.nd
     face_flux = k * float(np.sum(w[side]) - np.sum(w0[side]))
     residual = shoulders + prow + face_flux - groove - sink - volume_change
     return VolumeBudget(groove, shoulders, prow, sink, face_flux, volume_change, residual)
+
+
+class SteadyRates(NamedTuple):
+    """Growth of each budget term per unit slide over the steady part of a scratch (mm³/mm = mm², whole grain):
+    the cross-sections a long groove settles to. ``degree_of_wear`` = 1 − shoulders/groove is Eq. (8.5) in rates."""
+
+    groove: float
+    shoulders: float
+    prow: float
+    sink: float
+    faces: float
+    volume_change: float
+    from_slide: float
+
+    @property
+    def degree_of_wear(self) -> float:
+        return 1.0 - self.shoulders / self.groove
+
+
+def steady_rates(curves: dict, from_slide: float | None = None) -> SteadyRates:
+    """Least-squares slopes d V / d slide of the budget columns of a scratch's ``curves`` (``forces.csv``) over
+    the sliding increments with slide ≥ ``from_slide`` (default: the second half of the slide), mm²."""
+    sliding = np.asarray(curves["phase"]) == 1
+    s = np.asarray(curves["slide"])[sliding]
+    if s.size < 3:
+        raise ValueError("steady_rates needs at least three sliding increments")
+    start = 0.5 * s.max() if from_slide is None else from_slide
+    window = s >= start
+    if window.sum() < 3:
+        raise ValueError(f"from_slide {start:g} mm leaves fewer than three sliding increments")
+
+    def rate(name):
+        return float(np.polyfit(s[window], np.asarray(curves[f"V_{name}"])[sliding][window], 1)[0])
+
+    return SteadyRates(*(rate(n) for n in SteadyRates._fields[:-1]), from_slide=float(start))
+
+
+def plateau_onset(slide: np.ndarray, values: np.ndarray, tolerance: float = 0.05) -> float:
+    """First slide distance from which ``values`` stay within ``tolerance`` (relative) of their mean over the last
+    quarter of the slide; NaN if even the last quarter varies by more (no plateau reached)."""
+    slide, values = np.asarray(slide, dtype=float), np.asarray(values, dtype=float)
+    last = slide >= slide.min() + 0.75 * (slide.max() - slide.min())
+    level = values[last].mean()
+    inside = np.abs(values / level - 1.0) <= tolerance
+    if not np.all(inside[last]):
+        return float("nan")
+    outside = np.flatnonzero(~inside)
+    return float(slide[outside[-1] + 1] if outside.size else slide[0])

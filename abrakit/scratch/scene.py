@@ -81,7 +81,9 @@ __all__ = [
     "SpecimenMesh",
     "build_specimen",
     "demo",
+    "groove_along",
     "groove_balance",
+    "groove_section",
     "hertz_indentation",
     "nested_dissection",
     "run_scratch",
@@ -228,7 +230,10 @@ class ScratchScene:
     (Eq. 6.97: α times the work of the tip on the half model in the increment, α in 1/(N mm) as in Table 7.2);
     mesh: a :class:`SpecimenMesh` or a level name of :data:`MESH_LEVELS`; size: the block (full width, thickness,
     length), mm; indent_steps, unload_steps: load increments of the two vertical phases; slide_step: apex
-    advance per sliding increment (default h_z/4), mm.
+    advance per sliding increment (default h_z/4), mm; bbar: B-bar hexahedra against volumetric locking (small
+    strain only; Abaqus' C3D8 of the seed is selectively reduced); kinematics: "small" (Eq. 4.26) or "finite"
+    (total Lagrangian, :class:`~abrakit.materials.LogStrainPlasticity`); end_faces: "fixed" (the seed: "the
+    other surfaces of the specimen are fixed") or "free" (traction-free ends z = 0, L).
     """
 
     indenter: SphericalIndenter | ConicalIndenter = SphericalIndenter(0.05)
@@ -250,6 +255,7 @@ class ScratchScene:
     slide_step: float | None = None
     bbar: bool = False
     kinematics: str = "small"
+    end_faces: str = "fixed"
 
     def __post_init__(self):
         check_positive("depth", self.depth)
@@ -260,6 +266,7 @@ class ScratchScene:
         check_option("damage_rate", self.damage_rate, ("step", "work"))
         check_option("damage_energy", self.damage_energy, ("full", "tension"))
         check_option("kinematics", self.kinematics, ("small", "finite"))
+        check_option("end_faces", self.end_faces, ("fixed", "free"))
         if self.kinematics == "finite" and (self.damage or self.bbar):
             raise ValueError("kinematics='finite' supports the plastic and elastic materials without B-bar "
                              "(damage=False, bbar=False)")
@@ -345,8 +352,8 @@ def build_specimen(scene: ScratchScene) -> Specimen:
         "back": lambda x: x[2] > length - tol,
     })
     basis = vector_basis(mesh)
-    conditions = [Dirichlet.on(basis, "symmetry", "x")] + [
-        Dirichlet.on(basis, face, "xyz") for face in ("side", "bottom", "front", "back")]
+    fixed = ("side", "bottom") + (("front", "back") if scene.end_faces == "fixed" else ())
+    conditions = [Dirichlet.on(basis, "symmetry", "x")] + [Dirichlet.on(basis, face, "xyz") for face in fixed]
     return Specimen(mesh, basis, zone, conditions, float(ys[-1] - ys[-2]))
 
 
@@ -637,17 +644,45 @@ def _segments(scene: ScratchScene, spec: SpecimenMesh):
     return segments
 
 
-def _section(specimen, u, scene: ScratchScene, label: str, notes: list):
-    """(groove metrics, half profile) of the spatial section at mid-length; metrics None (and a note why) where
-    the profile has no groove."""
-    disp = u[np.asarray(specimen.basis.nodal_dofs)].T
-    profile = profile_from_surface_nodes(specimen.mesh.p.T, disp, scene.z_section)
-    try:
-        metrics = groove_metrics(profile.x, profile.y, half=True, depth=scene.depth, tol=2e-3 * scene.depth)
-    except ValueError as exc:
-        notes.append(f"{label}: {exc}")
-        metrics = None
+def _noted(section, label, notes):
+    metrics, profile, why = section
+    if why:
+        notes.append(f"{label}: {why}")
     return metrics, profile
+
+
+def groove_section(specimen: Specimen, u: np.ndarray, scene: ScratchScene, z: float | None = None):
+    """(:class:`~abrakit.scratch.groove.GrooveMetrics` or None, half :class:`~abrakit.scratch.groove.Profile`,
+    reason) of the spatial cross-section at ``z`` (default: mid-length of the scratch); the metrics are None
+    (and ``reason`` says why) where the profile has no groove."""
+    disp = u[np.asarray(specimen.basis.nodal_dofs)].T
+    profile = profile_from_surface_nodes(specimen.mesh.p.T, disp, scene.z_section if z is None else z)
+    try:
+        return groove_metrics(profile.x, profile.y, half=True, depth=scene.depth, tol=2e-3 * scene.depth), \
+            profile, None
+    except ValueError as exc:
+        return None, profile, str(exc)
+
+
+class GrooveAlong(NamedTuple):
+    """Groove sections along the wake (µm², whole grain): positions z (mm), A_g, A_s, f_ab (NaN where the
+    section has no groove)."""
+
+    z: np.ndarray
+    groove_area: np.ndarray
+    shoulder_area: np.ndarray
+    degree_of_wear: np.ndarray
+
+
+def groove_along(specimen: Specimen, u: np.ndarray, scene: ScratchScene, z: np.ndarray) -> GrooveAlong:
+    """:func:`groove_section` at every position of ``z``: where along the scratch the section reaches a plateau."""
+    rows = []
+    for zi in np.asarray(z, dtype=float):
+        g = groove_section(specimen, u, scene, zi)[0]
+        rows.append((np.nan, np.nan, np.nan) if g is None
+                    else (g.groove_area * 1e6, g.shoulder_area * 1e6, g.degree_of_wear))
+    values = np.array(rows).reshape(-1, 3).T
+    return GrooveAlong(np.asarray(z, dtype=float), *values)
 
 
 def run_scratch(scene: ScratchScene = ScratchScene(), *, output=None, progress: bool = False, vtu_every: int = 10,
@@ -708,10 +743,10 @@ def run_scratch(scene: ScratchScene = ScratchScene(), *, output=None, progress: 
             cutbacks += result.cutbacks
             recorder.write_fields(end, u, result.response.stress, state)      # the end of every phase
             if scene.slide > 0.0 and end == 1.5:
-                grooves["loaded"] = _section(specimen, u, scene, "tip in contact", notes)
+                grooves["loaded"] = _noted(groove_section(specimen, u, scene), "tip in contact", notes)
         if scene.slide > 0.0:
-            grooves["unloaded"] = _section(specimen, u, scene, "after unloading" if scene.unload else "end of slide",
-                                           notes)
+            label = "after unloading" if scene.unload else "end of slide"
+            grooves["unloaded"] = _noted(groove_section(specimen, u, scene), label, notes)
     finally:
         recorder.close()
 
@@ -813,7 +848,8 @@ class HertzCheck(NamedTuple):
 
 
 def hertz_indentation(h: float, penalty: float = 1.0, *, R: float = 0.05, d: float = 5e-4, steps: int = 4,
-                      extent: float = 30.0, growth: float = 1.4, linear_solver: str = "lu") -> HertzCheck:
+                      extent: float = 30.0, growth: float = 1.4, linear_solver: str = "auto",
+                      kinematics: str = "small") -> HertzCheck:
     """Frictionless sphere pressed into an elastic St-52 quarter block, the elastic check of the indentation step.
 
     The quarter x ≥ 0, z ≥ 0 (symmetry planes x = 0 and z = 0 through the tip's axis) of a block reaching
@@ -821,7 +857,8 @@ def hertz_indentation(h: float, penalty: float = 1.0, *, R: float = 0.05, d: flo
     half-space of Hertz, truncated); elements of about ``h`` (mm) over (2.25 a)³ under the tip, growing by
     ``growth`` outside; penalty c_N = ``penalty`` · E / h. The depth is reached in ``steps`` increments. The
     truncation stiffens the block by about 0.4 a/L in depth (< 2 % for ``extent`` = 30), the nodal contact
-    and the trilinear elements by O((h/a)²), the penalty softens it by the penetration p/c_N.
+    and the trilinear elements by O((h/a)²), the penalty softens it by the penetration p/c_N. ``kinematics``:
+    "small" or "finite" (Hencky material, total Lagrangian; at d/R = 1 % the two agree to O(d/R)).
     """
     t0 = time.perf_counter()
     check_positive("h", h)
@@ -840,7 +877,10 @@ def hertz_indentation(h: float, penalty: float = 1.0, *, R: float = 0.05, d: flo
     path = ScratchPath(depth=d, slide=0.0, z_start=0.0, unload=False)
     c_N = penalty_from_stiffness(ST52["E"], h, penalty)
     contact = IndenterContact(basis, indenter, path.position, c_N=c_N, mu=0.0, symmetry_factor=4.0)
-    solver = LineSearchSolver(basis, st52_material("elastic"), conditions, extra_terms=[contact],
+    check_option("kinematics", kinematics, ("small", "finite"))
+    finite = kinematics == "finite"
+    material = LogStrainPlasticity(st52_material("elastic")) if finite else st52_material("elastic")
+    solver = LineSearchSolver(basis, material, conditions, extra_terms=[contact], finite_strain=finite,
                               control=StepControl(initial=1.0 / steps, maximum=1.0 / steps, minimum=1e-4),
                               newton=NewtonOptions(residual_tol=1e-8, max_iterations=30, divergence_check_after=30),
                               linear_solver="direct")

@@ -1,0 +1,240 @@
+"""Benchmark: small against finite strain in long scratches, the steady state, the volume budget, Table 8.4 again.
+
+Parts (every run is kept in ``<outdir>/scratch_steady/<name>/`` — ``forces.csv`` with the per-increment volume
+budget, ``summary.json``, ``u.npy`` and ``scene.txt`` — and reused by later calls with the same scene, so an
+interrupted benchmark resumes, and runs can be computed ahead in another process with ``--only NAME``):
+
+1. **small vs finite strain** on the seed's scene (sphere R = 50 µm, d = 2 µm, μ = 0.1) slid 200 µm along a
+   300 µm block, "demo" mesh: runtime, forces, A_g, A_s, f_ab, the budget at the end, and how F_N and the groove
+   section evolve along the slide (plateau onset, steady rates of every budget term per µm of slide);
+2. **end faces**: the same scene with traction-free ends instead of the seed's fixed ones;
+3. **depth sweep** (finite strain): d/R = 0.02, 0.04, 0.06, 0.10 — apparent friction F_T/F_N against the
+   ploughing model of Bowden & Tabor / Goddard & Wilman for a sphere,
+   μ_app = μ + (2/π) [(R/a)² asin(a/R) − √((R/a)² − 1)], a the contact radius (here √(2Rd − d²), the
+   geometric footprint of a tip that ploughs without pile-up);
+4. **grains** of Sec. 8.4 at the seed's f_N = 2 N (finite strain, D = 100 and 200 µm): A_g and f_ab from the
+   steady rates and from the mid-length section after unloading, and Table 8.4 recomputed from them beside the
+   printed table and the seed's own inputs.
+
+``quick=True`` runs parts 1 and 2 on 100 µm slides of a 200 µm block (the seed's block) and skips 3 and 4.
+Writes ``scratch_steady.json``, ``scratch_steady.csv`` and ``scratch_steady.png``.
+
+    python benchmarks/bench_scratch_steady.py [--quick] [--only NAME] [--outdir DIR]
+"""
+
+from __future__ import annotations
+
+import argparse
+import math
+import time
+from pathlib import Path
+
+import numpy as np
+from _common import RESULTS, save_figure
+
+from abrakit.io import CurveWriter, read_curve, read_json, write_json
+from abrakit.scratch import SphericalIndenter
+from abrakit.scratch.budget import plateau_onset, steady_rates
+from abrakit.scratch.scene import ScratchScene, build_specimen, groove_along, run_scratch
+from abrakit.wear import GRAIN_100UM, GRAIN_200UM, Grain, astm_g65_table
+
+SEED_GRAINS = {100: {"A_g_um2": 88.4, "f_ab": 0.37}, 200: {"A_g_um2": 60.0, "f_ab": 0.12}}
+SEED_FORCE = 2.0
+LONG = {"slide": 0.2, "size": (0.1, 0.015, 0.3)}
+SEED_BLOCK = {"slide": 0.1, "size": (0.1, 0.015, 0.2)}
+DEPTHS_OVER_R = (0.02, 0.04, 0.06, 0.10)
+COLUMNS = ("name", "kinematics", "end_faces", "R_um", "d_um", "slide_um", "elements", "dofs", "wall_time_s",
+           "F_N", "F_T", "apparent_friction", "F_N_plateau_from_um", "A_g_um2", "A_s_um2", "f_ab",
+           "rate_groove_um2", "rate_shoulders_um2", "rate_prow_um2", "rate_volume_change_um2", "f_ab_rates",
+           "V_groove_um3", "V_shoulders_um3", "V_prow_um3", "V_sink_um3", "V_faces_um3", "V_volume_change_um3",
+           "V_residual_um3")
+
+
+def ploughing_friction(mu: float, R: float, d: float) -> float:
+    """Apparent friction of a sphere ploughing a plastic surface (Bowden & Tabor 1950; Goddard & Wilman 1962):
+    μ + (2/π)[(R/a)² asin(a/R) − √((R/a)² − 1)], the adhesive part plus the ratio of the groove's frontal
+    projected area to the load-bearing (half-circle) area, with a = √(2Rd − d²)."""
+    a = math.sqrt(2 * R * d - d * d)
+    k = R / a
+    return mu + (2 / math.pi) * (k * k * math.asin(1 / k) - math.sqrt(k * k - 1))
+
+
+def run_or_load(outdir: Path, name: str, scene: ScratchScene) -> Path:
+    """Run ``scene`` into ``outdir/scratch_steady/name`` unless a finished run of the same scene is there."""
+    folder = outdir / "scratch_steady" / name
+    marker = folder / "scene.txt"
+    if marker.exists() and marker.read_text() == repr(scene) and (folder / "u.npy").exists():
+        print(f"[steady] {name}: stored", flush=True)
+        return folder
+    print(f"[steady] {name}: {scene.kinematics} strain, d = {scene.depth * 1e3:g} um, R = "
+          f"{scene.indenter.radius * 1e3:g} um, slide {scene.slide * 1e3:g} um", flush=True)
+    result = run_scratch(scene, output=folder, vtu_every=0)
+    np.save(folder / "u.npy", result.u)
+    marker.write_text(repr(scene))
+    print(f"[steady]   {result.wall_time:.0f} s, F_N = {result.mean_normal_force:.3f} N", flush=True)
+    return folder
+
+
+def analyse(name: str, scene: ScratchScene, folder: Path) -> dict:
+    """Everything the tables and plots need from one stored run."""
+    summary = read_json(folder / "summary.json")
+    curves = read_curve(folder / "forces.csv")
+    sliding = curves["phase"] == 1
+    slide_um = curves["slide"][sliding] * 1e3
+    rates = steady_rates(curves)
+    z = scene.path.z_start + np.linspace(0.0, scene.slide, 41)
+    along = groove_along(build_specimen(scene), np.load(folder / "u.npy"), scene, z)
+    g = summary["groove_unloaded"] or {}
+    budget = summary["volume_budget_um3"]
+    F_N, F_T = curves["normal_force"][sliding], curves["tangential_force"][sliding]
+    last = slide_um >= 0.5 * slide_um.max()
+    row = {
+        "name": name, "kinematics": scene.kinematics, "end_faces": scene.end_faces,
+        "R_um": scene.indenter.radius * 1e3, "d_um": scene.depth * 1e3, "slide_um": scene.slide * 1e3,
+        "elements": summary["elements"], "dofs": summary["dofs"], "wall_time_s": summary["wall_time_s"],
+        "F_N": float(F_N[last].mean()), "F_T": float(F_T[last].mean()),
+        "apparent_friction": float(F_T[last].mean() / F_N[last].mean()),
+        "F_N_plateau_from_um": plateau_onset(slide_um, F_N),
+        "A_g_um2": g.get("A_g_um2", np.nan), "A_s_um2": g.get("A_s_um2", np.nan), "f_ab": g.get("f_ab", np.nan),
+        "rate_groove_um2": rates.groove * 1e6, "rate_shoulders_um2": rates.shoulders * 1e6,
+        "rate_prow_um2": rates.prow * 1e6, "rate_volume_change_um2": rates.volume_change * 1e6,
+        "f_ab_rates": rates.degree_of_wear,
+        **{f"V_{k}_um3": budget[k] for k in ("groove", "shoulders", "prow", "sink", "faces", "volume_change",
+                                             "residual")},
+    }
+    return {"row": row, "curves": {"slide_um": slide_um.tolist(), "F_N": F_N.tolist(), "F_T": F_T.tolist(),
+                                   **{k: (curves[k][sliding] * 1e9).tolist() for k in
+                                      ("V_groove", "V_shoulders", "V_prow", "V_sink", "V_volume_change")}},
+            "along": {"z_um": ((along.z - scene.path.z_start) * 1e3).tolist(),
+                      "A_g_um2": along.groove_area.tolist(), "A_s_um2": along.shoulder_area.tolist(),
+                      "f_ab": along.degree_of_wear.tolist()}}
+
+
+def planned(quick: bool) -> dict[str, ScratchScene]:
+    geometry = SEED_BLOCK if quick else LONG
+    base = ScratchScene(mesh="demo", **geometry)
+    plan = {"small": base, "finite": base.with_(kinematics="finite"),
+            "small_free_ends": base.with_(end_faces="free")}
+    if not quick:
+        for ratio in DEPTHS_OVER_R:
+            if not math.isclose(ratio * 0.05, base.depth):
+                plan[f"finite_d{ratio * 50:g}um"] = base.with_(kinematics="finite", depth=round(ratio * 0.05, 6))
+    return plan
+
+
+def grain_scenes(depth_rows: list[dict]) -> dict[str, ScratchScene]:
+    """D = 100 µm (R = 50) and D = 200 µm (R = 100) at the depth where the finite-strain sweep gives 2 N
+    (interpolated in d; R = 100 by F ∝ R d, fully plastic contact)."""
+    d, F = np.array(sorted((r["d_um"], r["F_N"]) for r in depth_rows)).T
+    d50 = float(np.interp(SEED_FORCE, F, d))
+    base = ScratchScene(mesh="demo", kinematics="finite", **LONG)
+    return {"grain_100um": base.with_(depth=round(d50, 3) * 1e-3),
+            "grain_200um": base.with_(indenter=SphericalIndenter(0.1), depth=round(0.5 * d50, 3) * 1e-3)}
+
+
+def main(outdir: Path = RESULTS, quick: bool = False, only: str | None = None) -> dict:
+    outdir = Path(outdir)
+    t0 = time.perf_counter()
+    plan = planned(quick)
+    if only is not None and only in plan:
+        run_or_load(outdir, only, plan[only])
+        return {}
+    runs = {name: analyse(name, scene, run_or_load(outdir, name, scene)) for name, scene in plan.items()}
+    results = {"mode": "quick" if quick else "full", "date": time.strftime("%Y-%m-%d %H:%M"), "runs": runs}
+    if not quick:
+        depth_rows = [runs[n]["row"] for n in runs if n.startswith("finite")]
+        results["ploughing"] = [{"d_over_R": r["d_um"] / r["R_um"], "measured": r["apparent_friction"],
+                                 "model": ploughing_friction(0.1, r["R_um"], r["d_um"])} for r in depth_rows]
+        grains = grain_scenes(depth_rows)
+        if only is not None and only in grains:
+            run_or_load(outdir, only, grains[only])
+            return {}
+        for name, scene in grains.items():
+            runs[name] = analyse(name, scene, run_or_load(outdir, name, scene))
+        results["table_8_4"] = table_8_4(runs["grain_100um"]["row"], runs["grain_200um"]["row"])
+    results["wall_time_s"] = time.perf_counter() - t0
+    with CurveWriter(outdir / "scratch_steady.csv", COLUMNS) as w:
+        for entry in runs.values():
+            w.write(**entry["row"])
+    write_json(outdir / "scratch_steady.json", results)
+    plot(results, outdir / "scratch_steady.png")
+    return results
+
+
+def table_8_4(fine: dict, coarse: dict) -> dict:
+    """Table 8.4 from the grains' steady rates (A_g = groove rate, f_ab from rates) and from their sections."""
+    def grains(key_A, key_f):
+        return (Grain(100e-6, fine[key_A] * 1e-12, max(fine[key_f], 0.0)),
+                Grain(200e-6, coarse[key_A] * 1e-12, max(coarse[key_f], 0.0)))
+
+    seed = astm_g65_table(fine=GRAIN_100UM, coarse=GRAIN_200UM)
+    rates = astm_g65_table(*(), **dict(zip(("fine", "coarse"), grains("rate_groove_um2", "f_ab_rates"),
+                                           strict=True)))
+    section = astm_g65_table(**dict(zip(("fine", "coarse"), grains("A_g_um2", "f_ab"), strict=True)))
+    return {"label": seed["label"], "theta_200um": seed["theta_coarse"].tolist(),
+            "seed_printed": seed["seed"].tolist(), "from_seed_inputs": seed["ours"].tolist(),
+            "from_steady_rates": rates["ours"].tolist(), "from_sections": section["ours"].tolist(),
+            "grains": {"100um": {k: fine[k] for k in ("d_um", "F_N", "A_g_um2", "f_ab", "rate_groove_um2",
+                                                       "f_ab_rates")},
+                       "200um": {k: coarse[k] for k in ("d_um", "F_N", "A_g_um2", "f_ab", "rate_groove_um2",
+                                                         "f_ab_rates")},
+                       "seed": SEED_GRAINS}}
+
+
+def plot(results: dict, path: Path) -> None:
+    import matplotlib.pyplot as plt
+
+    runs = results["runs"]
+    fig, ax = plt.subplots(2, 3, figsize=(15, 8.5))
+    for name, colour in (("small", "C0"), ("finite", "C3"), ("small_free_ends", "C2")):
+        if name not in runs:
+            continue
+        c, a = runs[name]["curves"], runs[name]["along"]
+        ax[0, 0].plot(c["slide_um"], c["F_N"], color=colour, label=f"{name}: F_N")
+        ax[0, 0].plot(c["slide_um"], c["F_T"], color=colour, ls="--", label=f"{name}: F_T")
+        ax[0, 1].plot(a["z_um"], a["f_ab"], color=colour, label=f"{name}: f_ab")
+        ax[0, 1].plot(a["z_um"], np.array(a["A_s_um2"]) / np.array(a["A_g_um2"]), color=colour, ls=":",
+                      label=f"{name}: A_s/A_g")
+    ax[0, 0].set(xlabel="slide [um]", ylabel="force [N]", title="forces along the slide (plateau?)")
+    ax[0, 1].set(xlabel="position of the section behind the start [um]", ylabel="[-]",
+                 title="groove section along the wake (after unloading)")
+    for a in ax[0, :2]:
+        a.legend(fontsize=7)
+    for k, name in enumerate(("small", "finite")):
+        if name not in runs:
+            continue
+        c, a = runs[name]["curves"], ax[1, k]
+        s = np.array(c["slide_um"])
+        parts = [np.array(c["V_shoulders"]), np.array(c["V_prow"]), -np.array(c["V_volume_change"])]
+        a.stackplot(s, *parts, labels=["shoulders", "prow", "volume lost (−∫(J−1)dV)"], alpha=0.7)
+        a.plot(s, np.array(c["V_groove"]) + np.array(c["V_sink"]), "k-", lw=2, label="groove + sink")
+        a.set(xlabel="slide [um]", ylabel="volume [um³]", title=f"volume budget, {name} strain")
+        a.legend(fontsize=7, loc="upper left")
+    a = ax[0, 2]
+    if "ploughing" in results:
+        p = sorted(results["ploughing"], key=lambda x: x["d_over_R"])
+        x = [q["d_over_R"] for q in p]
+        a.plot(x, [q["measured"] for q in p], "C3o-", label="finite-strain FE (F_T/F_N)")
+        a.plot(x, [q["model"] for q in p], "k--", label="Bowden-Tabor / Goddard-Wilman")
+        a.set(xlabel="d/R", ylabel="apparent friction", title="apparent friction, sphere, mu = 0.1")
+        a.legend(fontsize=8)
+    a = ax[1, 2]
+    if "table_8_4" in results:
+        t = results["table_8_4"]
+        th = np.array(t["theta_200um"])
+        for key, style in (("seed_printed", "ko"), ("from_seed_inputs", "C0-"), ("from_steady_rates", "C3s--"),
+                           ("from_sections", "C1^:")):
+            a.plot(th, np.array(t[key]) * 1e7, style, label=key.replace("_", " "))
+        a.set(xlabel="volume fraction of 200 um grains", ylabel="wear rate [1e-7 m3/s]", title="Table 8.4")
+        a.legend(fontsize=8)
+    fig.suptitle(f"abrakit scratch: small vs finite strain, steady state ({results['mode']}, {results['date']})")
+    save_figure(fig, path, dpi=110)
+
+
+if __name__ == "__main__":
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--quick", action="store_true", help="the seed's 100 um slides; parts 1-2 only")
+    parser.add_argument("--only", metavar="NAME", help="compute one planned run ahead (e.g. in a second process)")
+    parser.add_argument("--outdir", type=Path, default=RESULTS)
+    args = parser.parse_args()
+    main(args.outdir, quick=args.quick, only=args.only)
