@@ -98,3 +98,16 @@ def test_a_singular_matrix_raises_a_linear_solve_error(backend):
 def test_unknown_backend_is_refused():
     with pytest.raises(ValueError, match="backend"):
         DirectSolver("mumps")
+
+
+def test_superlu_reuses_its_own_fill_reducing_order():
+    """The kept order must be SuperLU's column order as an index array (the inverse of ``perm_c``): the
+    refactorisation then has the fill of the first one, not several times more."""
+    K = elastic_matrix()
+    solver = DirectSolver("superlu")
+    rhs = np.ones(K.shape[0])
+    solver.solve(K, rhs)
+    first = solver.backend._lu[0]
+    solver.solve(2.0 * K, rhs)
+    again = solver.backend._lu[0]
+    assert again.L.nnz + again.U.nnz <= 1.01 * (first.L.nnz + first.U.nnz)

@@ -60,7 +60,8 @@ class _SuperLUBackend:
             lu = spla.splu(K, permc_spec="MMD_AT_PLUS_A")
         except RuntimeError as exc:  # "Factor is exactly singular"
             raise LinearSolveError(f"sparse LU failed: {exc}") from exc
-        self._p = lu.perm_c if self.order is None else self._p
+        if self.order is None:
+            self._p = np.argsort(lu.perm_c)   # perm_c[j] is the new position of column j; as an index array: inverse
         self._lu = (lu, None)
 
     def solve(self, rhs):

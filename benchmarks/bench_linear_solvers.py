@@ -1,0 +1,143 @@
+"""Benchmark: the direct-solver back-ends against problem size, analysis once and numerical factorisations after.
+
+Elastic stiffness matrices of bilinear quadrilaterals (2D plane strain) and trilinear hexahedra (3D), clamped on
+one side, from about 1 000 to 200 000 free DOFs. For every back-end of :class:`abrakit.fem.DirectSolver`
+(SuperLU in its own order, PARDISO if pypardiso is installed) and for the AMG-preconditioned CG of
+:class:`abrakit.fem.AMGSolver`: the time of the symbolic analysis, of one numerical factorisation (the cost of
+every further Newton iteration) and of one solve, the factor size (non-zeros of L + U, PARDISO's peak memory) and
+the relative residual. SuperLU stops at 60 000 DOFs in 3D (minutes per factorisation beyond).
+Writes ``linear_solvers.csv``, ``linear_solvers.json`` and ``linear_solvers.png``.
+
+    python benchmarks/bench_linear_solvers.py [--quick] [--outdir DIR]
+"""
+
+from __future__ import annotations
+
+import time
+from pathlib import Path
+
+import numpy as np
+import scipy.sparse as sp
+import skfem
+from _common import RESULTS, command_line, save_figure
+
+from abrakit.fem import AMGSolver, Assembler, DirectSolver, Dirichlet, Kinematics, pardiso_available
+from abrakit.fem.linsolve import rigid_body_modes
+from abrakit.io import CurveWriter, write_json
+from abrakit.materials import LinearElastic
+
+SIZES = {2: (20, 40, 80, 160, 320), 3: (6, 10, 16, 24, 32, 40)}
+QUICK_SIZES = {2: (20, 40, 80), 3: (6, 10, 16)}
+SUPERLU_MAX_3D = 60_000
+COLUMNS = ("dim", "n", "dofs", "backend", "analyse_s", "factorise_s", "solve_s", "factor_nnz", "memory_mb",
+           "residual")
+
+
+def elastic_system(dim: int, n: int):
+    """Clamped elastic block with n elements per side (3D: n x n x 2n), its free stiffness and a load."""
+    if dim == 2:
+        mesh = skfem.MeshQuad.init_tensor(np.linspace(0, 1, n + 1), np.linspace(0, 2, 2 * n + 1))
+    else:
+        mesh = skfem.MeshHex.init_tensor(np.linspace(0, 1, n + 1), np.linspace(0, 1, n + 1),
+                                         np.linspace(0, 2, 2 * n + 1))
+    mesh = mesh.with_boundaries({"clamped": lambda x: x[dim - 1] < 1e-9})
+    kin = Kinematics.from_mesh(mesh)
+    material = LinearElastic(200000.0, 0.3)
+    tangent = material.update(material.initial_state((kin.nel, kin.nqp)), np.zeros((kin.nel, kin.nqp, 6))).tangent
+    K = Assembler(kin).tangent(tangent)
+    free = np.setdiff1d(np.arange(kin.ndof), Dirichlet.on(kin.basis, "clamped").dofs)
+    K = sp.csr_matrix(K[free][:, free])
+    component = np.zeros(kin.ndof, dtype=int)
+    component[kin.element_dofs] = np.arange(kin.nbf) % dim
+    modes = rigid_body_modes(kin.basis.doflocs[:, free], component[free])
+    return K, np.random.default_rng(0).standard_normal(K.shape[0]), modes
+
+
+def measure_direct(backend: str, K, rhs) -> dict:
+    solver = DirectSolver(backend)
+    solver.solve(K, rhs)                                   # analysis + first factorisation
+    t0 = time.perf_counter()
+    x = solver.solve(K * 1.0001, rhs)                      # same pattern: numerical factorisation only
+    total = time.perf_counter() - t0
+    b = solver.backend
+    nnz = memory = np.nan
+    if backend == "superlu":
+        lu = b._lu[0]
+        nnz = lu.L.nnz + lu.U.nnz
+    else:
+        iparm = b._solver.iparm
+        nnz = float(iparm[17])                             # iparm(18): non-zeros in the factors
+        memory = max(iparm[14], iparm[15] + iparm[16]) / 1024.0   # iparm(15)-(17): peak memory, KB
+    per = solver.factorisations
+    return {"analyse_s": solver.times["analyse"] / solver.analyses, "factorise_s": solver.times["factorise"] / per,
+            "solve_s": solver.times["solve"] / solver.solves, "factor_nnz": nnz, "memory_mb": memory,
+            "residual": float(np.linalg.norm(K * 1.0001 @ x - rhs) / np.linalg.norm(rhs)), "total_s": total}
+
+
+def measure_amg(K, rhs, modes) -> dict:
+    solver = AMGSolver(modes)
+    t0 = time.perf_counter()
+    solver._build(K)
+    build = time.perf_counter() - t0
+    t0 = time.perf_counter()
+    x = solver.solve(K, rhs, new_step=False)
+    solve = time.perf_counter() - t0
+    return {"analyse_s": 0.0, "factorise_s": build, "solve_s": solve, "factor_nnz": np.nan, "memory_mb": np.nan,
+            "residual": float(np.linalg.norm(K @ x - rhs) / np.linalg.norm(rhs))}
+
+
+def main(outdir: Path = RESULTS, quick: bool = False) -> dict:
+    outdir = Path(outdir)
+    outdir.mkdir(parents=True, exist_ok=True)
+    backends = ["superlu"] + (["pardiso"] if pardiso_available() else [])
+    rows = []
+    for dim, sizes in (QUICK_SIZES if quick else SIZES).items():
+        for n in sizes:
+            K, rhs, modes = elastic_system(dim, n)
+            for backend in backends + ["amg"]:
+                if backend == "superlu" and dim == 3 and K.shape[0] > SUPERLU_MAX_3D:
+                    continue
+                m = measure_amg(K, rhs, modes) if backend == "amg" else measure_direct(backend, K, rhs)
+                rows.append({"dim": dim, "n": n, "dofs": K.shape[0], "backend": backend, **m})
+                print(f"[linear solvers] {dim}D {K.shape[0]:7d} DOFs {backend:8s} analyse {m['analyse_s']:7.3f} s "
+                      f"factorise {m['factorise_s']:7.3f} s solve {m['solve_s']:7.4f} s", flush=True)
+    with CurveWriter(outdir / "linear_solvers.csv", COLUMNS) as w:
+        for r in rows:
+            w.write(**{k: r[k] for k in COLUMNS})
+    speedup = {}
+    for dim in (2, 3):
+        pairs = {(r["dofs"], r["backend"]): r for r in rows if r["dim"] == dim}
+        speedup[dim] = {d: pairs[(d, "superlu")]["factorise_s"] / pairs[(d, "pardiso")]["factorise_s"]
+                        for (d, b) in pairs if b == "superlu" and (d, "pardiso") in pairs}
+    results = {"mode": "quick" if quick else "full", "date": time.strftime("%Y-%m-%d %H:%M"), "rows": rows,
+               "pardiso_over_superlu_factorisation_speedup": speedup}
+    write_json(outdir / "linear_solvers.json", results)
+    plot(rows, outdir / "linear_solvers.png")
+    lines = [f"{dim}D, {d} DOFs: PARDISO factorises {s:.1f}x faster than SuperLU" for dim in speedup
+             for d, s in sorted(speedup[dim].items())]
+    results["summary"] = "\n".join(lines)
+    return results
+
+
+def plot(rows, path):
+    import matplotlib.pyplot as plt
+
+    fig, ax = plt.subplots(1, 2, figsize=(12, 4.5))
+    for a, dim in zip(ax, (2, 3), strict=True):
+        for backend, colour in (("superlu", "C0"), ("pardiso", "C3"), ("amg", "C2")):
+            sel = sorted((r for r in rows if r["dim"] == dim and r["backend"] == backend), key=lambda r: r["dofs"])
+            if not sel:
+                continue
+            dofs = [r["dofs"] for r in sel]
+            label = "AMG set-up" if backend == "amg" else f"{backend} factorisation"
+            a.loglog(dofs, [r["factorise_s"] for r in sel], "o-", color=colour, label=label)
+            a.loglog(dofs, [r["solve_s"] for r in sel], "s--", color=colour, label=f"{backend} solve")
+            if backend != "amg":
+                a.loglog(dofs, [r["analyse_s"] for r in sel], "^:", color=colour, label=f"{backend} analysis")
+        a.set(xlabel="free DOFs", ylabel="seconds", title=f"{dim}D elasticity")
+        a.legend(fontsize=7)
+    save_figure(fig, path)
+
+
+if __name__ == "__main__":
+    command_line(main, __doc__)
