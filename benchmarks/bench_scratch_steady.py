@@ -6,9 +6,11 @@ interrupted benchmark resumes, and runs can be computed ahead in another process
 
 1. **small vs finite strain** on the seed's scene (sphere R = 50 µm, d = 2 µm, μ = 0.1) slid 200 µm along a
    300 µm block, "demo" mesh: runtime, forces, A_g, A_s, f_ab, the budget at the end, and how F_N and the groove
-   section evolve along the slide (plateau onset, steady rates of every budget term per µm of slide);
-2. **end faces**: the same scene with traction-free ends instead of the seed's fixed ones;
-3. **depth sweep** (finite strain): d/R = 0.02, 0.04, 0.06, 0.10 — apparent friction F_T/F_N against the
+   section evolve along the slide (plateau onset, steady rates of every budget term per µm of slide); and on the
+   seed's own block and 100 µm slide with the "default" mesh;
+2. **what the rise of F_N comes from**: the same scene with traction-free ends instead of the seed's fixed ones,
+   with B-bar hexahedra (no volumetric locking), and with perfect plasticity (H = 0, no hardening);
+3. **depth sweep** (finite strain): d/R = 0.02, 0.04, 0.10 — apparent friction F_T/F_N against the
    ploughing model of Bowden & Tabor / Goddard & Wilman for a sphere,
    μ_app = μ + (2/π) [(R/a)² asin(a/R) − √((R/a)² − 1)], a the contact radius (here √(2Rd − d²), the
    geometric footprint of a tip that ploughs without pile-up);
@@ -32,9 +34,10 @@ from pathlib import Path
 import numpy as np
 from _common import RESULTS, save_figure
 
+from abrakit.fem import Kinematics
 from abrakit.io import CurveWriter, read_curve, read_json, write_json
 from abrakit.scratch import SphericalIndenter
-from abrakit.scratch.budget import plateau_onset, steady_rates
+from abrakit.scratch.budget import plateau_onset, removal_by_plastic_strain, steady_rates
 from abrakit.scratch.scene import ScratchScene, build_specimen, groove_along, run_scratch
 from abrakit.wear import GRAIN_100UM, GRAIN_200UM, Grain, astm_g65_table
 
@@ -42,7 +45,7 @@ SEED_GRAINS = {100: {"A_g_um2": 88.4, "f_ab": 0.37}, 200: {"A_g_um2": 60.0, "f_a
 SEED_FORCE = 2.0
 LONG = {"slide": 0.2, "size": (0.1, 0.015, 0.3)}
 SEED_BLOCK = {"slide": 0.1, "size": (0.1, 0.015, 0.2)}
-DEPTHS_OVER_R = (0.02, 0.04, 0.06, 0.10)
+DEPTHS_OVER_R = (0.02, 0.04, 0.10)
 COLUMNS = ("name", "kinematics", "end_faces", "R_um", "d_um", "slide_um", "elements", "dofs", "wall_time_s",
            "F_N", "F_T", "apparent_friction", "F_N_plateau_from_um", "A_g_um2", "A_s_um2", "f_ab",
            "rate_groove_um2", "rate_shoulders_um2", "rate_prow_um2", "rate_volume_change_um2", "f_ab_rates",
@@ -70,6 +73,7 @@ def run_or_load(outdir: Path, name: str, scene: ScratchScene) -> Path:
           f"{scene.indenter.radius * 1e3:g} um, slide {scene.slide * 1e3:g} um", flush=True)
     result = run_scratch(scene, output=folder, vtu_every=0)
     np.save(folder / "u.npy", result.u)
+    np.savez(folder / "state.npz", alpha_p=result.state["alpha_p"], J=result.state.get("J", np.ones(1)))
     marker.write_text(repr(scene))
     print(f"[steady]   {result.wall_time:.0f} s, F_N = {result.mean_normal_force:.3f} N", flush=True)
     return folder
@@ -102,7 +106,9 @@ def analyse(name: str, scene: ScratchScene, folder: Path) -> dict:
         **{f"V_{k}_um3": budget[k] for k in ("groove", "shoulders", "prow", "sink", "faces", "volume_change",
                                              "residual")},
     }
-    return {"row": row, "curves": {"slide_um": slide_um.tolist(), "F_N": F_N.tolist(), "F_T": F_T.tolist(),
+    removal = removal_study(scene, folder, rates) if (folder / "state.npz").exists() else None
+    return {"row": row, "removal": removal,
+            "curves": {"slide_um": slide_um.tolist(), "F_N": F_N.tolist(), "F_T": F_T.tolist(),
                                    **{k: (curves[k][sliding] * 1e9).tolist() for k in
                                       ("V_groove", "V_shoulders", "V_prow", "V_sink", "V_volume_change")}},
             "along": {"z_um": ((along.z - scene.path.z_start) * 1e3).tolist(),
@@ -110,12 +116,41 @@ def analyse(name: str, scene: ScratchScene, folder: Path) -> dict:
                       "f_ab": along.degree_of_wear.tolist()}}
 
 
+REMOVAL_THRESHOLDS = (0.0, 0.05, 0.1, 0.2, 0.3, 0.5, 0.75, 1.0, 1.5, 2.0)
+
+
+def removal_study(scene: ScratchScene, folder: Path, rates) -> dict:
+    """f_ab if shoulder material with accumulated plastic strain above ε_c were removed (a study, not a model):
+    1 − (shoulders − removed)/groove with the steady rates, the removed volume per unit length taken over the
+    steady half of the wake (up to two footprint radii before the end)."""
+    state = np.load(folder / "state.npz")
+    kin = Kinematics.from_basis(build_specimen(scene).basis)
+    z_lo = scene.path.z_start + 0.5 * scene.slide
+    z_hi = scene.path.z_end - 2.0 * scene.footprint
+    J = state["J"] if scene.kinematics == "finite" else None
+    r = removal_by_plastic_strain(kin, np.load(folder / "u.npy"), state["alpha_p"], J, REMOVAL_THRESHOLDS,
+                                  (z_lo, z_hi))
+    f_ab = 1.0 - (rates.shoulders - r.removed) / rates.groove
+    return {"eps_c": r.thresholds.tolist(), "removed_um2": (r.removed * 1e6).tolist(), "f_ab": f_ab.tolist()}
+
+
+def critical_strain_for(removal: dict, f_ab: float) -> float:
+    """The ε_c at which the removal study reaches ``f_ab`` (f_ab falls as ε_c grows); NaN outside its range."""
+    eps, f = np.array(removal["eps_c"]), np.array(removal["f_ab"])
+    if not f.min() <= f_ab <= f.max():
+        return float("nan")
+    return float(np.interp(f_ab, f[::-1], eps[::-1]))
+
+
 def planned(quick: bool) -> dict[str, ScratchScene]:
     geometry = SEED_BLOCK if quick else LONG
     base = ScratchScene(mesh="demo", **geometry)
     plan = {"small": base, "finite": base.with_(kinematics="finite"),
-            "small_free_ends": base.with_(end_faces="free")}
+            "small_free_ends": base.with_(end_faces="free"), "small_bbar": base.with_(bbar=True),
+            "small_perfect_plastic": base.with_(hardening=0.0)}
     if not quick:
+        seed = ScratchScene(mesh="default", **SEED_BLOCK)                 # the seed's scene and our default mesh
+        plan |= {"small_default_mesh": seed, "finite_default_mesh": seed.with_(kinematics="finite")}
         for ratio in DEPTHS_OVER_R:
             if not math.isclose(ratio * 0.05, base.depth):
                 plan[f"finite_d{ratio * 50:g}um"] = base.with_(kinematics="finite", depth=round(ratio * 0.05, 6))
@@ -123,13 +158,16 @@ def planned(quick: bool) -> dict[str, ScratchScene]:
 
 
 def grain_scenes(depth_rows: list[dict]) -> dict[str, ScratchScene]:
-    """D = 100 µm (R = 50) and D = 200 µm (R = 100) at the depth where the finite-strain sweep gives 2 N
-    (interpolated in d; R = 100 by F ∝ R d, fully plastic contact)."""
+    """D = 100 µm (R = 50) and D = 200 µm (R = 100) at the depth where the finite-strain sweep gives 2 N over the
+    second half of the slide (interpolated in d and rounded to 0.5 µm; R = 100 at half that depth, rounded to
+    0.25 µm, since F ∝ R d for a fully plastic contact). The seed does not state its depths; the rounding lets a
+    grain reuse a sweep run of the same depth."""
     d, F = np.array(sorted((r["d_um"], r["F_N"]) for r in depth_rows)).T
-    d50 = float(np.interp(SEED_FORCE, F, d))
+    d50 = 0.5 * round(2 * float(np.interp(SEED_FORCE, F, d)))
+    d100 = 0.25 * round(4 * 0.5 * d50)
     base = ScratchScene(mesh="demo", kinematics="finite", **LONG)
-    return {"grain_100um": base.with_(depth=round(d50, 3) * 1e-3),
-            "grain_200um": base.with_(indenter=SphericalIndenter(0.1), depth=round(0.5 * d50, 3) * 1e-3)}
+    return {"grain_100um": base.with_(depth=d50 * 1e-3),
+            "grain_200um": base.with_(indenter=SphericalIndenter(0.1), depth=d100 * 1e-3)}
 
 
 def main(outdir: Path = RESULTS, quick: bool = False, only: str | None = None) -> dict:
@@ -150,8 +188,14 @@ def main(outdir: Path = RESULTS, quick: bool = False, only: str | None = None) -
             run_or_load(outdir, only, grains[only])
             return {}
         for name, scene in grains.items():
-            runs[name] = analyse(name, scene, run_or_load(outdir, name, scene))
+            same = next((n for n, sc in plan.items() if sc == scene), None)
+            runs[name] = runs[same] if same else analyse(name, scene, run_or_load(outdir, name, scene))
         results["table_8_4"] = table_8_4(runs["grain_100um"]["row"], runs["grain_200um"]["row"])
+        results["removal"] = {
+            D: {"seed_f_ab": SEED_GRAINS[D]["f_ab"], "study": runs[name]["removal"],
+                "eps_c_for_seed_f_ab": critical_strain_for(runs[name]["removal"], SEED_GRAINS[D]["f_ab"])
+                if runs[name]["removal"] else None}
+            for D, name in ((100, "grain_100um"), (200, "grain_200um"))}
     results["wall_time_s"] = time.perf_counter() - t0
     with CurveWriter(outdir / "scratch_steady.csv", COLUMNS) as w:
         for entry in runs.values():

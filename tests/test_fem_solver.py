@@ -121,11 +121,57 @@ def test_linear_problem_converges_in_one_iteration_and_extrapolation_is_exact():
                                                      rel=1e-10, abs=1e-9)  # plane strain, free sides: E' eps A
 
 
+@dataclass
+class RecordingElastic:
+    """Linear elastic; remembers the largest strain increment any update was asked to evaluate."""
+
+    elastic: LinearElastic
+    largest: float = 0.0
+
+    def initial_state(self, shape):
+        return self.elastic.initial_state(shape)
+
+    def update(self, state, eps, dt=1.0, **loading):
+        self.largest = max(self.largest, float(np.abs(eps - state["eps"]).max()))
+        return self.elastic.update(state, eps, dt)
+
+
+def test_the_prescribed_increment_is_lifted_through_the_linear_system():
+    """One elastic step of a strip pulled by 0.01 mm over 4 mm: with lifting the first iterate is the exact,
+    uniform strain 0.0025; putting the increment into the start point instead strains the last element column
+    alone by 0.01 / 0.5 = 0.02, eight times more (what makes boundary points falsely plastic)."""
+    basis = vector_basis(strip())
+    largest = {}
+    for lift in (True, False):
+        material = RecordingElastic(LinearElastic(E, NU))
+        control = StepControl(initial=1.0, maximum=1.0, lift=lift)
+        result = Solver(basis, material, tension_bcs(basis), control=control).run(progress=False)
+        assert result.iterations[1] == 1
+        largest[lift] = material.largest
+    assert largest[True] == pytest.approx(0.01 / 4.0, rel=1e-10)
+    assert largest[False] == pytest.approx(0.01 / 0.5, rel=1e-10)
+
+
+def test_a_lifted_elastic_first_step_of_the_plate_needs_one_iteration():
+    from abrakit.fem.problems import TABLE_7_1_PLASTICITY, plate_with_hole_problem
+
+    material = VonMisesPlasticity(**TABLE_7_1_PLASTICITY, integration="implicit")
+    iterations = {}
+    for lift in (True, False):
+        solver = plate_with_hole_problem(material, n_angular=32, n_radial=24, displacement=0.05,
+                                         control=StepControl(lift=lift))
+        result = solver.run(progress=False)
+        assert result.cutbacks == 0
+        iterations[lift] = result.iterations[1]
+    assert iterations[True] == 1 and iterations[False] == 2
+
+
 # ---- load stepping: cutback, growth, failure ---------------------------------------------------------------------
 def test_failed_step_is_cut_back_and_recovers():
     basis = vector_basis(strip())
-    # the first iterate strains the last element column by 0.01 * dlambda / 0.5: steps > 0.3 of the load fail
-    material = FragileElastic(LinearElastic(E, NU), max_increment=0.006)
+    # the lifted first iterate is the elastic solution, a uniform strain of 0.01 * dlambda / 4: steps above 0.28 of
+    # the load fail
+    material = FragileElastic(LinearElastic(E, NU), max_increment=0.0007)
     solver = Solver(basis, material, tension_bcs(basis),
                     control=StepControl(initial=1.0, maximum=1.0, extrapolate=False))
     result = solver.run(progress=False)

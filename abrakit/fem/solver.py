@@ -44,7 +44,11 @@ from .output import RunWriter
 @dataclass(frozen=True)
 class StepControl:
     """Load-factor incrementation. Defaults after Abaqus/Standard: cut back by 1/4 on divergence, grow by 1.5
-    after two consecutive increments converging within 4 iterations, minimum 1e-5 of the load path."""
+    after two consecutive increments converging within 4 iterations, minimum 1e-5 of the load path.
+
+    Predictor of a step: ``extrapolate`` the last converged increment where there is one; otherwise (the first
+    step, or ``extrapolate=False``) ``lift`` the prescribed increment through the linear system (FElupe's and
+    FEniCS' practice) rather than putting it into the start point, where it strains only the boundary elements."""
 
     initial: float = 0.1
     minimum: float = 1e-5
@@ -54,6 +58,7 @@ class StepControl:
     easy_iterations: int = 4
     easy_steps: int = 2
     extrapolate: bool = True
+    lift: bool = True
 
     def __post_init__(self):
         check_range("minimum", self.minimum, 0.0, None, low_open=True)
@@ -234,19 +239,25 @@ class Solver:
                 extra_K.append(K_extra)
         return response, residual, f_int, scale, extra_K
 
-    def _correction(self, response, extra_K, residual, new_step: bool) -> np.ndarray:
+    def _correction(self, response, extra_K, residual, new_step: bool, lift: np.ndarray | None = None
+                    ) -> np.ndarray:
+        """du_I from K_II du_I = −R_I, or with ``lift`` (the prescribed increment Δu_D, zero on free DOFs) from
+        K_II du_I = −R_I − K_ID Δu_D: the Dirichlet increment entering through the linear system."""
         cons = self.constraints
         data = self.assembler.tangent_data(response.tangent)
         # extra terms inside the mesh's pattern (contact blocks on its nodes) keep the pattern, and with it the
         # linear solver's symbolic analysis; others fall back to a general sparse sum
         outside = [K for K in extra_K if not self.assembler.add_into(data, K)]
+        K = self.assembler.matrix(data)
         if outside:
-            K = self.assembler.matrix(data) + sum(outside)
-            K_II = cons.condense(sp.csr_matrix(K), same_pattern=False)
+            K = sp.csr_matrix(K + sum(outside))
+            K_II = cons.condense(K, same_pattern=False)
             diag_pos = None
         else:
-            K_II = cons.condense(self.assembler.matrix(data))
+            K_II = cons.condense(K)
             diag_pos = cons.diagonal_positions
+        if lift is not None:
+            residual = residual + K @ lift
         if not np.all(np.isfinite(K_II.data)):
             raise LinearSolveError("non-finite tangent")
         # a region without stiffness (e.g. fully damaged) must not make K_II singular: floor its diagonal
@@ -265,14 +276,31 @@ class Solver:
         return np.asarray(self.linear_solver(K_II, rhs))
 
     # ---- Newton iterations, Eq. (4.38)–(4.41) ----------------------------------------------------------------
-    def newton(self, u_trial, state_old, ctx: StepContext) -> NewtonResult:
-        """Iterate from ``u_trial`` (prescribed DOFs already at their new values) until converged."""
+    def newton(self, u_trial, state_old, ctx: StepContext, lift: np.ndarray | None = None) -> NewtonResult:
+        """Iterate from ``u_trial`` (prescribed DOFs already at their new values) until converged.
+
+        With ``lift`` (Δu_D: the prescribed increment, zero on free DOFs) ``u_trial`` is the start of the step
+        (prescribed DOFs at their old values) and the first iteration solves K_II du_I = −R_I − K_ID Δu_D there:
+        a purely elastic step is then exact after one iteration, and no boundary layer of elements takes the
+        whole increment alone."""
         opts = self.newton_options
         free = self.constraints.free
         u = np.array(u_trial, dtype=float)
         residuals: list[float] = []
         increment = np.inf
-        for k in range(opts.max_iterations + 1):
+        first = 0
+        if lift is not None:
+            ctx_0 = replace(ctx, iteration=0, u=u)
+            try:
+                response, residual, _, _, extra_K = self.evaluate(u, state_old, ctx_0)
+                du = Solver._correction(self, response, extra_K, residual, new_step=True, lift=lift)
+            except (ArithmeticError, np.linalg.LinAlgError, LinearSolveError) as exc:
+                raise NewtonFailure(f"lifted predictor failed: {exc}", residuals) from exc
+            # the residual at the old state (≈ 0 for a Dirichlet-driven step) is not part of the convergence history
+            u[free] += du
+            u += lift
+            increment, first = np.max(np.abs(du), initial=0.0), 1
+        for k in range(first, opts.max_iterations + 1):
             ctx_k = replace(ctx, iteration=k, u=u)
             try:
                 response, residual, f_int, scale, extra_K = self.evaluate(u, state_old, ctx_k)
@@ -286,7 +314,8 @@ class Solver:
             tol = opts.residual_tol * scale + opts.absolute_force
             step_size = np.max(np.abs((u - ctx.u_old)[free]), initial=0.0)
             small_correction = increment <= opts.increment_tol * step_size + 1e-300
-            if norm <= tol and (k == 0 or small_correction or norm <= opts.exact_tol * scale + opts.absolute_force):
+            if norm <= tol and (k == first == 0 or small_correction
+                                or norm <= opts.exact_tol * scale + opts.absolute_force):
                 return NewtonResult(u, response, f_int, k, residuals)
             if k == opts.max_iterations:
                 raise NewtonFailure(f"not converged in {k} iterations (residual {norm:.3e} N, tolerance "
@@ -294,7 +323,7 @@ class Solver:
             if k >= opts.divergence_check_after and min(residuals[:-2]) < min(residuals[-2:]):
                 raise NewtonFailure(f"diverging (residual {norm:.3e} N after {k} iterations)", residuals)
             try:
-                du = self._correction(response, extra_K, residual, new_step=(k == 0))
+                du = self._correction(response, extra_K, residual, new_step=(k == first))
             except LinearSolveError as exc:
                 raise NewtonFailure(str(exc), residuals) from exc
             u[free] += du
@@ -354,13 +383,16 @@ class Solver:
                 delta = min(delta, end - lam)
                 lam_new = lam + delta
                 u_trial = cons.apply(u, lam_new)
+                lift = None
                 if ctrl.extrapolate and u_prev is not None:
                     free = cons.free
                     u_trial[free] += (delta / delta_prev) * (u - u_prev)[free]
+                elif ctrl.lift and np.any(u_trial != u):      # prescribed values change in this step
+                    lift, u_trial = u_trial - u, u.copy()        # Δu_D (zero on free DOFs), start at u_m
                 ctx = StepContext(step + 1, lam_new, delta, lam_new * self.duration, delta * self.duration, 0,
                                   u_trial, u, state, f_int)
                 try:
-                    res = self.newton(u_trial, state, ctx)
+                    res = self.newton(u_trial, state, ctx, lift=lift)
                 except NewtonFailure as failure:
                     cutbacks += 1
                     easy = 0

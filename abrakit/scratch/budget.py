@@ -37,7 +37,8 @@ from typing import NamedTuple
 
 import numpy as np
 
-__all__ = ["BoundaryFaces", "SteadyRates", "VolumeBudget", "plateau_onset", "steady_rates", "volume_budget"]
+__all__ = ["BoundaryFaces", "PlasticStrainRemoval", "SteadyRates", "VolumeBudget", "plateau_onset",
+           "removal_by_plastic_strain", "steady_rates", "volume_budget"]
 
 _GAUSS = np.array([-1.0, 1.0]) / np.sqrt(3.0)
 
@@ -186,3 +187,35 @@ def plateau_onset(slide: np.ndarray, values: np.ndarray, tolerance: float = 0.05
         return float("nan")
     outside = np.flatnonzero(~inside)
     return float(slide[outside[-1] + 1] if outside.size else slide[0])
+
+
+class PlasticStrainRemoval(NamedTuple):
+    """Material counted as removed by a critical plastic strain, per unit length of the wake (mm², whole grain).
+
+    thresholds: the critical accumulated plastic strains ε_c; removed: for each, the volume per unit length of
+    material above the original surface (shoulders) with α_p > ε_c, in the current configuration."""
+
+    thresholds: np.ndarray
+    removed: np.ndarray
+
+
+def removal_by_plastic_strain(kinematics, u: np.ndarray, alpha_p: np.ndarray, J: np.ndarray | None,
+                              thresholds, z_range: tuple[float, float],
+                              symmetry_factor: float = 2.0) -> PlasticStrainRemoval:
+    """A removal criterion as a study, not as a model: quadrature points of the final state that lie above the
+    original surface (current y > 0) within ``z_range`` (reference z, mm) and whose accumulated plastic strain
+    ``alpha_p`` (nel, nqp) exceeds ε_c are counted as chips. Their current volume (J dV_0; ``J=None``: small
+    strain, dV_0) per unit length of the range, for every ε_c in ``thresholds``."""
+    z_lo, z_hi = z_range
+    if not z_hi > z_lo:
+        raise ValueError(f"z_range must be increasing, got {z_range}")
+    alpha_p = np.asarray(alpha_p, dtype=float)
+    if alpha_p.shape != kinematics.dx.shape:
+        raise ValueError(f"alpha_p must have shape {kinematics.dx.shape} (nel, nqp), got {alpha_p.shape}")
+    X = kinematics.quadrature_points                                       # (3, nel, nqp)
+    u_q = np.asarray(kinematics.basis.interpolate(u).value)                # (3, nel, nqp)
+    above = (X[1] + u_q[1] > 0.0) & (X[2] >= z_lo) & (X[2] <= z_hi)
+    volume = kinematics.dx * (1.0 if J is None else np.asarray(J))
+    thresholds = np.atleast_1d(np.asarray(thresholds, dtype=float))
+    removed = np.array([symmetry_factor * np.sum(volume[above & (alpha_p > t)]) for t in thresholds])
+    return PlasticStrainRemoval(thresholds, removed / (z_hi - z_lo))

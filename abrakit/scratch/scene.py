@@ -111,13 +111,16 @@ END_CLEARANCE = 0.01
 """Least distance (mm) between the fine zone and the fixed end faces z = 0, L: room for the intermediate zone."""
 
 
-def st52_material(kind: str = "plastic", damage: bool = False, damage_energy: str = "full"):
+def st52_material(kind: str = "plastic", damage: bool = False, damage_energy: str = "full",
+                  hardening: float | None = None):
     """The specimen's material: ``"plastic"`` (St-52 with linear hardening, :data:`ST52`) or ``"elastic"``;
-    ``damage=True`` wraps it in Model II with Table 8.2 (``damage_energy`` "full" or "tension", Eq. 6.56)."""
+    ``damage=True`` wraps it in Model II with Table 8.2 (``damage_energy`` "full" or "tension", Eq. 6.56);
+    ``hardening``: the uniaxial slope H (MPa) instead of St-52's (0: perfect plasticity)."""
     check_option("kind", kind, ("plastic", "elastic"))
     E, nu = ST52["E"], ST52["nu"]
+    H = ST52["hardening"] if hardening is None else check_positive("hardening", hardening, allow_zero=True)
     r_p = ST52["yield_stress"] / math.sqrt(1.5) if kind == "plastic" else None
-    K_H = ST52["hardening"] / 1.5 if kind == "plastic" else 0.0
+    K_H = H / 1.5 if kind == "plastic" else 0.0
     if damage:
         p = TABLE_8_2
         return ModelIIDamage(p["E"], p["nu"], p["r_d"], n=p["n"], alpha=p["alpha"], dt=p["dt"], r_p=r_p, K_H=K_H,
@@ -233,7 +236,8 @@ class ScratchScene:
     advance per sliding increment (default h_z/4), mm; bbar: B-bar hexahedra against volumetric locking (small
     strain only; Abaqus' C3D8 of the seed is selectively reduced); kinematics: "small" (Eq. 4.26) or "finite"
     (total Lagrangian, :class:`~abrakit.materials.LogStrainPlasticity`); end_faces: "fixed" (the seed: "the
-    other surfaces of the specimen are fixed") or "free" (traction-free ends z = 0, L).
+    other surfaces of the specimen are fixed") or "free" (traction-free ends z = 0, L); hardening: the uniaxial
+    hardening slope H of the plastic material, MPa (St-52's 1000 MPa; 0 for perfect plasticity).
     """
 
     indenter: SphericalIndenter | ConicalIndenter = SphericalIndenter(0.05)
@@ -256,6 +260,7 @@ class ScratchScene:
     bbar: bool = False
     kinematics: str = "small"
     end_faces: str = "fixed"
+    hardening: float = ST52["hardening"]
 
     def __post_init__(self):
         check_positive("depth", self.depth)
@@ -267,6 +272,7 @@ class ScratchScene:
         check_option("damage_energy", self.damage_energy, ("full", "tension"))
         check_option("kinematics", self.kinematics, ("small", "finite"))
         check_option("end_faces", self.end_faces, ("fixed", "free"))
+        check_positive("hardening", self.hardening, allow_zero=True)
         if self.kinematics == "finite" and (self.damage or self.bbar):
             raise ValueError("kinematics='finite' supports the plastic and elastic materials without B-bar "
                              "(damage=False, bbar=False)")
@@ -698,7 +704,7 @@ def run_scratch(scene: ScratchScene = ScratchScene(), *, output=None, progress: 
     path = scene.path
     specimen = build_specimen(scene)
     mesh, basis = specimen.mesh, specimen.basis
-    material = st52_material(scene.material, scene.damage, scene.damage_energy)
+    material = st52_material(scene.material, scene.damage, scene.damage_energy, scene.hardening)
     finite = scene.kinematics == "finite"
     if finite:
         material = LogStrainPlasticity(material)
@@ -933,4 +939,9 @@ def demo() -> str:
             lines.append(f"groove {label}: A_g = {g.groove_area * 1e6:.1f} um2, A_s = {g.shoulder_area * 1e6:.1f} "
                          f"um2, w = {g.width * 1e3:.1f} um, f_ab = {g.degree_of_wear:.2f} ({g.regime}), "
                          f"D_p = {g.degree_of_penetration:.3f}")
+    b = r.budget.as_dict(scale=1e9)
+    lines.append(f"volume audit (um3): groove {b['groove']:.0f} + sink {b['sink']:.0f} = shoulders {b['shoulders']:.0f}"
+                 f" + prow {b['prow']:.0f} - int(J-1)dV {b['volume_change']:+.0f} (closure {b['residual']:.1e}); "
+                 "small strain loses volume at second order, kinematics='finite' does not "
+                 "(chapter 'Where the groove goes')")
     return "\n".join(lines)
