@@ -147,8 +147,6 @@ def test_bad_input_is_refused():
         PLASTIC.update(PLASTIC.initial_state(()), np.eye(3))
     with pytest.raises(FloatingPointError, match="inverted"):          # the solver cuts such a step back
         PLASTIC.update(PLASTIC.initial_state(()), np.diag([1.0, 1.0, -1.0]).ravel())
-    with pytest.raises(ValueError, match="bbar"):
-        Kinematics.from_basis(vector_basis(unit_cube(1)), bbar=True, finite_strain=True)
 
 
 # ---- finite elements -------------------------------------------------------------------------------------------
@@ -231,3 +229,57 @@ def _tangent_arguments(material, state, F):
     small = base.update(base_state, eps)
     P = T.from_mandel(small.stress) @ np.swapaxes(F_inv, -1, -2)
     return F_inv, Q, lam, small.tangent, P
+
+
+# ---- F-bar: the finite-strain counterpart of B-bar -----------------------------------------------------------------
+
+
+def fbar_kinematics(n=2):
+    axis = np.linspace(0.0, 1.0, n + 1)
+    return Kinematics.from_basis(vector_basis(skfem.MeshHex.init_tensor(axis, axis, axis)), bbar=True,
+                                 finite_strain=True)
+
+
+def test_fbar_tangent_is_the_derivative_of_its_force():
+    kin = fbar_kinematics()
+    asm = Assembler(kin)
+    rng = np.random.default_rng(2)
+    state = PLASTIC.initial_state((kin.nel, kin.nqp))
+    u = 0.05 * rng.standard_normal(kin.ndof)
+
+    def force(v):
+        return asm.internal_force(PLASTIC.update(state, kin.strain(v)).stress, v)
+
+    r = PLASTIC.update(state, kin.strain(u))
+    assert np.any(r.state["alpha_p"] > 0)
+    K = asm.tangent(r.tangent, u, r.stress).toarray()
+    direction = rng.standard_normal(kin.ndof)
+    h = 1e-7
+    fd = (force(u + h * direction) - force(u - h * direction)) / (2 * h)
+    assert np.abs(K @ direction - fd).max() <= 1e-7 * np.abs(fd).max()
+
+
+def test_fbar_keeps_the_element_volume_and_is_plain_total_lagrangian_for_homogeneous_deformation():
+    kin = fbar_kinematics()
+    plain = Kinematics.from_basis(kin.basis, finite_strain=True)
+    rng = np.random.default_rng(3)
+    u = 0.05 * rng.standard_normal(kin.ndof)
+    F_bar = kin.strain(u).reshape(kin.nel, kin.nqp, 3, 3)
+    assert np.allclose(np.linalg.det(F_bar), kin.fbar_state(u).J_bar[:, None], rtol=1e-13)
+    # a homogeneous deformation: J is uniform, so F-bar changes nothing
+    H = 0.1 * rng.standard_normal((3, 3))
+    u_h = np.zeros(kin.ndof)
+    u_h[kin.basis.nodal_dofs] = H @ kin.basis.mesh.p
+    assert np.allclose(kin.strain(u_h), plain.strain(u_h), rtol=1e-13, atol=1e-14)
+    stress = PLASTIC.update(PLASTIC.initial_state((kin.nel, kin.nqp)), kin.strain(u_h)).stress
+    assert np.allclose(Assembler(kin).internal_force(stress, u_h), Assembler(plain).internal_force(stress),
+                       rtol=1e-10, atol=1e-8)
+
+
+def test_fbar_is_refused_in_plane_strain_and_needs_the_displacement():
+    axis = np.linspace(0.0, 1.0, 3)
+    with pytest.raises(ValueError, match="3D"):
+        Kinematics.from_basis(vector_basis(skfem.MeshQuad.init_tensor(axis, axis)), bbar=True, finite_strain=True)
+    kin = fbar_kinematics(1)
+    with pytest.raises(ValueError, match="displacement"):
+        Assembler(kin).internal_force(np.zeros((kin.nel, kin.nqp, 9)))

@@ -19,7 +19,13 @@ import scipy.sparse as sp
 import skfem
 
 from ..validation import check_shape
-from .kinematics import ACTIVE_COMPONENTS, MANDEL_GRADIENT_TABLE_2D, MANDEL_GRADIENT_TABLE_3D, Kinematics
+from .kinematics import (
+    ACTIVE_COMPONENTS,
+    MANDEL_GRADIENT_TABLE_2D,
+    MANDEL_GRADIENT_TABLE_3D,
+    FBarKinematics,
+    Kinematics,
+)
 
 # Element matrices are built in chunks of at most this many entries (bounds the temporary memory).
 _CHUNK_ENTRIES = 4_000_000
@@ -54,7 +60,7 @@ class Assembler:
         self._comps = np.asarray(kinematics.components)
         self._chunk = max(1, _CHUNK_ENTRIES // (kinematics.nqp * nbf * nbf))
         b_bytes = 8 * kinematics.nel * kinematics.nqp * len(self._comps) * nbf
-        self._B = kinematics.B() if b_bytes <= CACHE_BYTES else None
+        self._B = kinematics.B() if b_bytes <= CACHE_BYTES and not isinstance(kinematics, FBarKinematics) else None
         self._one_scatter = 8 * kinematics.nel * nbf * nbf <= CACHE_BYTES
 
     @property
@@ -65,13 +71,17 @@ class Assembler:
         return check_shape(name, array, (self.kin.nel, self.kin.nqp) + tail)
 
     # ---- Eq. (4.37) --------------------------------------------------------------------------------------------
-    def element_forces(self, stress: np.ndarray) -> np.ndarray:
-        """Element internal forces int_e B^T sigma dV, ``(nel, nbf)``."""
-        return self.kin.element_forces(self._check("stress", stress, (self.kin.measure_size,)))
+    def element_forces(self, stress: np.ndarray, u: np.ndarray | None = None) -> np.ndarray:
+        """Element internal forces int_e B^T sigma dV, ``(nel, nbf)`` (``u``: for kinematics whose B depends on
+        the displacement, F-bar)."""
+        stress = self._check("stress", stress, (self.kin.measure_size,))
+        if isinstance(self.kin, FBarKinematics):
+            return self.kin.element_forces(stress, u)
+        return self.kin.element_forces(stress)
 
-    def internal_force(self, stress: np.ndarray) -> np.ndarray:
+    def internal_force(self, stress: np.ndarray, u: np.ndarray | None = None) -> np.ndarray:
         """Global internal force vector of Eq. (4.37), ``(ndof,)``."""
-        fe = self.element_forces(stress)
+        fe = self.element_forces(stress, u)
         return np.bincount(self.kin.element_dofs.ravel(), weights=fe.ravel(), minlength=self.ndof)
 
     # ---- Eq. (4.40) --------------------------------------------------------------------------------------------
@@ -85,9 +95,16 @@ class Assembler:
         Bt = B.transpose(0, 3, 1, 2).reshape(n, nbf, nqp * m)
         return np.matmul(Bt, CB.reshape(n, nqp * m, nbf))
 
-    def tangent_data(self, tangent: np.ndarray) -> np.ndarray:
-        """Values of the global tangent in the fixed CSR pattern (``K.data``)."""
+    def tangent_data(self, tangent: np.ndarray, u: np.ndarray | None = None,
+                     stress: np.ndarray | None = None) -> np.ndarray:
+        """Values of the global tangent in the fixed CSR pattern (``K.data``); F-bar kinematics also need the
+        displacement ``u`` and the ``stress`` (geometric terms)."""
         tangent = self._check("tangent", tangent, (self.kin.measure_size,) * 2)
+        if isinstance(self.kin, FBarKinematics):
+            if u is None or stress is None:
+                raise ValueError("F-bar tangents need the displacement u and the stress")
+            Ke = self.kin.element_tangents(tangent, stress, u)
+            return np.bincount(self.slot.ravel(), weights=Ke.ravel(), minlength=self.nnz)
         nel = self.kin.nel
         chunks = [slice(start, min(start + self._chunk, nel)) for start in range(0, nel, self._chunk)]
         if self._one_scatter:
@@ -101,9 +118,10 @@ class Assembler:
             data += np.bincount(self.slot[chunk].ravel(), weights=Ke.ravel(), minlength=self.nnz)
         return data
 
-    def tangent(self, tangent: np.ndarray) -> sp.csr_matrix:
+    def tangent(self, tangent: np.ndarray, u: np.ndarray | None = None,
+                stress: np.ndarray | None = None) -> sp.csr_matrix:
         """Global tangent stiffness of Eq. (4.40) as CSR, ``(ndof, ndof)``."""
-        return self.matrix(self.tangent_data(tangent))
+        return self.matrix(self.tangent_data(tangent, u, stress))
 
     def add_into(self, data: np.ndarray, K_extra: sp.spmatrix) -> bool:
         """Add ``K_extra`` to the values ``data`` of the assembler's pattern in place, if its entries lie inside

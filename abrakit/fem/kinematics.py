@@ -21,6 +21,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 from functools import cached_property
+from typing import NamedTuple
 
 import numpy as np
 import skfem
@@ -93,7 +94,7 @@ class Kinematics:
     def from_basis(cls, basis: skfem.CellBasis, bbar: bool = False, finite_strain: bool = False) -> Kinematics:
         """Kinematics of ``basis``: small strain (optionally B-bar), or total Lagrangian with ``finite_strain``."""
         if finite_strain and cls is Kinematics:
-            return TotalLagrangianKinematics.from_basis(basis, bbar)
+            return (FBarKinematics if bbar else TotalLagrangianKinematics).from_basis(basis)
         elem = basis.elem
         if not isinstance(elem, skfem.ElementVector) or elem.dim != basis.mesh.dim():
             raise TypeError(
@@ -252,13 +253,9 @@ class TotalLagrangianKinematics(Kinematics):
         f_int = Σ_e ∫ Gᵀ P dV_0,        K = Σ_e ∫ Gᵀ A G dV_0                 (Eq. 4.37/4.40 in the reference frame)
 
     and the assembly of :class:`~abrakit.fem.Assembler` serves both kinematics unchanged. Plane strain keeps
-    F_33 = 1 (components (11, 12, 21, 22) carried). B-bar has no finite-strain counterpart here (F-bar is not
-    implemented): ``bbar`` must be False.
+    F_33 = 1 (components (11, 12, 21, 22) carried). The finite-strain counterpart of B-bar is
+    :class:`FBarKinematics` (``Kinematics.from_basis(basis, bbar=True, finite_strain=True)``).
     """
-
-    def __post_init__(self):
-        if self.bbar:
-            raise ValueError("bbar must be False for finite-strain kinematics (F-bar is not implemented)")
 
     @property
     def components(self) -> tuple[int, ...]:
@@ -290,3 +287,109 @@ class TotalLagrangianKinematics(Kinematics):
         """∫_e Gᵀ P dV_0 for every element, ``(nel, nbf)``, from P as 9-vectors ``(nel, nqp, 9)``."""
         P = stress.reshape(*stress.shape[:2], 3, 3)[..., : self.dim, : self.dim] * self.dx[..., None, None]
         return np.einsum("eqaJ,eqiJ->eai", self.grad_N, P, optimize=True).reshape(self.nel, -1)
+
+
+class FBarState(NamedTuple):
+    """Per-displacement quantities of the F-bar operator (see :class:`FBarKinematics`)."""
+
+    F: np.ndarray          # (nel, nqp, 3, 3)
+    F_inv: np.ndarray      # (nel, nqp, 3, 3)
+    J: np.ndarray          # (nel, nqp)
+    J_bar: np.ndarray      # (nel,) deformed over reference element volume
+    alpha: np.ndarray      # (nel, nqp) (J_bar / J)^(1/3)
+    m: np.ndarray          # (nel, nbf) δJ_bar / J_bar = m · δu
+    h: np.ndarray          # (nel, nqp, nbf) m − Gᵀ g, g = vec(F⁻ᵀ)
+    B_bar: np.ndarray      # (nel, nqp, 9, nbf) δF_bar = B_bar δu
+
+
+@dataclass(frozen=True, eq=False)
+class FBarKinematics(TotalLagrangianKinematics):
+    """Total Lagrangian kinematics with the F-bar (mean-dilatation) deformation gradient against volumetric
+    locking of trilinear hexahedra in isochoric plastic flow (de Souza Neto, Perić, Dutko & Owen 1996; the
+    finite-strain counterpart of B-bar, and of the selectively reduced C3D8 of Abaqus):
+
+        F̄ = (J̄ / J)^{1/3} F,     J̄ = ∫_e J dV_0 / V_e  (the element's deformed over its reference volume),
+
+    so every quadrature point keeps its own isochoric part and the element's mean volume change. The internal
+    force is variational, f = Σ ∫ B̄ᵀ P(F̄) dV_0 with δF̄ = B̄ δu, B̄ = α [G + ⅓ f ⊗ h], α = (J̄/J)^{1/3},
+    f = vec F, h = m − Gᵀ vec F⁻ᵀ, m = ∫ J Gᵀ vec F⁻ᵀ dV_0 / (V_e J̄); the tangent is its exact derivative,
+
+        K_e = ∫ B̄ᵀ A B̄ dV_0 + ∫ (α/3) [X ⊗ h + h ⊗ Gᵀp] dV_0 + c_e (M_e − m ⊗ m) − ∫ (α s / 3) Gᵀ D G dV_0,
+
+    with p = vec P, s = F : P, X = Gᵀ p + (s/3) h, c_e = ∫ α s / 3 dV_0, D the derivative of vec F⁻ᵀ by vec F,
+    M_e = ∫ J Gᵀ (vec F⁻ᵀ ⊗ vec F⁻ᵀ + D) G dV_0 / (V_e J̄). Checked against finite differences of the force.
+    3D only (plane strain would need F_33 in the average).
+    """
+
+    def __post_init__(self):
+        if self.dim != 3:
+            raise ValueError("F-bar kinematics are implemented for 3D meshes only")
+        object.__setattr__(self, "_memo", [None, None])
+
+    @cached_property
+    def gradient_operator(self) -> np.ndarray:
+        """G of every element, ``(nel, nqp, 9, nbf)`` (kept: F-bar needs it for forces and tangents)."""
+        return TotalLagrangianKinematics.B(self)
+
+    def fbar_state(self, u: np.ndarray) -> FBarState:
+        memo = self._memo
+        if memo[0] is not None and np.array_equal(memo[0], u):
+            return memo[1]
+        F = TotalLagrangianKinematics.strain(self, u).reshape(self.nel, self.nqp, 3, 3)
+        J = np.linalg.det(F)
+        if np.any(J <= 0.0):
+            raise FloatingPointError(f"det F = {J.min():.3g} <= 0: an element is inverted (cut the step back)")
+        F_inv = np.linalg.inv(F)
+        volume = self.dx.sum(axis=1)
+        J_bar = np.einsum("eq,eq->e", J, self.dx) / volume
+        alpha = np.cbrt(J_bar[:, None] / J)
+        G = self.gradient_operator
+        Gtg = np.einsum("eqmb,eqm->eqb", G, np.swapaxes(F_inv, -1, -2).reshape(self.nel, self.nqp, 9))
+        m = np.einsum("eq,eqb->eb", J * self.dx, Gtg) / (volume * J_bar)[:, None]
+        h = m[:, None, :] - Gtg
+        f = F.reshape(self.nel, self.nqp, 9)
+        B_bar = alpha[..., None, None] * (G + f[..., :, None] * h[..., None, :] / 3.0)
+        state = FBarState(F, F_inv, J, J_bar, alpha, m, h, B_bar)
+        memo[0], memo[1] = np.array(u, copy=True), state
+        return state
+
+    def strain(self, u: np.ndarray) -> np.ndarray:
+        """F̄ = (J̄/J)^{1/3} F as 9-vectors, ``(nel, nqp, 9)``."""
+        st = self.fbar_state(u)
+        return (st.alpha[..., None, None] * st.F).reshape(self.nel, self.nqp, 9)
+
+    def element_forces(self, stress: np.ndarray, u: np.ndarray | None = None) -> np.ndarray:
+        if u is None:
+            raise ValueError("F-bar element forces need the displacement u")
+        st = self.fbar_state(u)
+        return np.einsum("eqmb,eqm,eq->eb", st.B_bar, stress, self.dx, optimize=True)
+
+    def element_tangents(self, tangent: np.ndarray, stress: np.ndarray, u: np.ndarray) -> np.ndarray:
+        """The exact element tangents of the F-bar force, ``(nel, nbf, nbf)`` (class docstring)."""
+        st = self.fbar_state(u)
+        G, dx = self.gradient_operator, self.dx
+        p = stress
+        s = np.einsum("eqm,eqm->eq", st.F.reshape(self.nel, self.nqp, 9), p)
+        Gtp = np.einsum("eqmb,eqm->eqb", G, p)
+        X = Gtp + (s / 3.0)[..., None] * st.h
+        w = dx * st.alpha / 3.0
+        nel, nqp, nbf = self.nel, self.nqp, self.nbf
+
+        def gram(left, right):                     # Σ_q leftᵀ right over (nel, nqp, 9, nbf) operands
+            return np.matmul(left.reshape(nel, nqp * 9, nbf).transpose(0, 2, 1), right.reshape(nel, nqp * 9, nbf))
+
+        def outer_sum(weight, a, b):                # Σ_q weight a ⊗ b over (nel, nqp, nbf) vectors
+            return np.matmul((a * weight[..., None]).transpose(0, 2, 1), b)
+
+        K = gram(st.B_bar, np.matmul(tangent * dx[..., None, None], st.B_bar))
+        K += outer_sum(w, X, st.h) + outer_sum(w, st.h, Gtp)
+        # D[(iJ), (Lk)] = −F⁻¹_ki F⁻¹_JL: the derivative of vec F⁻ᵀ by vec F
+        Fi = st.F_inv
+        D = -np.einsum("eqki,eqJL->eqiJLk", Fi, Fi).reshape(nel, nqp, 9, 9)
+        gvec = np.swapaxes(Fi, -1, -2).reshape(nel, nqp, 9)
+        c = np.einsum("eq,eq->e", w, s)
+        r = st.J * dx / (dx.sum(axis=1) * st.J_bar)[:, None]                # weights of M_e
+        K += gram(G, np.matmul(D * (c[:, None] * r - w * s)[..., None, None], G))
+        Gtg = np.einsum("eqmb,eqm->eqb", G, gvec)
+        K += c[:, None, None] * (outer_sum(r, Gtg, Gtg) - st.m[:, :, None] * st.m[:, None, :])
+        return K

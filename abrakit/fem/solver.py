@@ -222,7 +222,7 @@ class Solver:
         eps = self.kin.strain(u)
         with np.errstate(all="ignore"):
             response = self.material.update(state_old, eps, ctx.dt, **kwargs)
-            f_int = self.assembler.internal_force(response.stress)
+            f_int = self.assembler.internal_force(response.stress, u)
         residual = f_int.copy()
         scale = np.max(np.abs(f_int), initial=0.0)
         if self.external_force is not None:
@@ -239,12 +239,12 @@ class Solver:
                 extra_K.append(K_extra)
         return response, residual, f_int, scale, extra_K
 
-    def _correction(self, response, extra_K, residual, new_step: bool, lift: np.ndarray | None = None
-                    ) -> np.ndarray:
+    def _correction(self, response, extra_K, residual, new_step: bool, lift: np.ndarray | None = None,
+                    u: np.ndarray | None = None) -> np.ndarray:
         """du_I from K_II du_I = −R_I, or with ``lift`` (the prescribed increment Δu_D, zero on free DOFs) from
         K_II du_I = −R_I − K_ID Δu_D: the Dirichlet increment entering through the linear system."""
         cons = self.constraints
-        data = self.assembler.tangent_data(response.tangent)
+        data = self.assembler.tangent_data(response.tangent, u, response.stress)
         # extra terms inside the mesh's pattern (contact blocks on its nodes) keep the pattern, and with it the
         # linear solver's symbolic analysis; others fall back to a general sparse sum
         outside = [K for K in extra_K if not self.assembler.add_into(data, K)]
@@ -293,7 +293,7 @@ class Solver:
             ctx_0 = replace(ctx, iteration=0, u=u)
             try:
                 response, residual, _, _, extra_K = self.evaluate(u, state_old, ctx_0)
-                du = Solver._correction(self, response, extra_K, residual, new_step=True, lift=lift)
+                du = Solver._correction(self, response, extra_K, residual, new_step=True, lift=lift, u=u)
             except (ArithmeticError, np.linalg.LinAlgError, LinearSolveError) as exc:
                 raise NewtonFailure(f"lifted predictor failed: {exc}", residuals) from exc
             # the residual at the old state (≈ 0 for a Dirichlet-driven step) is not part of the convergence history
@@ -323,7 +323,7 @@ class Solver:
             if k >= opts.divergence_check_after and min(residuals[:-2]) < min(residuals[-2:]):
                 raise NewtonFailure(f"diverging (residual {norm:.3e} N after {k} iterations)", residuals)
             try:
-                du = self._correction(response, extra_K, residual, new_step=(k == first))
+                du = self._correction(response, extra_K, residual, new_step=(k == first), u=u)
             except LinearSolveError as exc:
                 raise NewtonFailure(str(exc), residuals) from exc
             u[free] += du

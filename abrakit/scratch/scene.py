@@ -233,8 +233,8 @@ class ScratchScene:
     (Eq. 6.97: α times the work of the tip on the half model in the increment, α in 1/(N mm) as in Table 7.2);
     mesh: a :class:`SpecimenMesh` or a level name of :data:`MESH_LEVELS`; size: the block (full width, thickness,
     length), mm; indent_steps, unload_steps: load increments of the two vertical phases; slide_step: apex
-    advance per sliding increment (default h_z/4), mm; bbar: B-bar hexahedra against volumetric locking (small
-    strain only; Abaqus' C3D8 of the seed is selectively reduced); kinematics: "small" (Eq. 4.26) or "finite"
+    advance per sliding increment (default h_z/4), mm; bbar: B-bar hexahedra against volumetric locking (F-bar
+    with finite strain; Abaqus' C3D8 of the seed is selectively reduced); kinematics: "small" (Eq. 4.26) or "finite"
     (total Lagrangian, :class:`~abrakit.materials.LogStrainPlasticity`); end_faces: "fixed" (the seed: "the
     other surfaces of the specimen are fixed") or "free" (traction-free ends z = 0, L); hardening: the uniaxial
     hardening slope H of the plastic material, MPa (St-52's 1000 MPa; 0 for perfect plasticity).
@@ -273,9 +273,8 @@ class ScratchScene:
         check_option("kinematics", self.kinematics, ("small", "finite"))
         check_option("end_faces", self.end_faces, ("fixed", "free"))
         check_positive("hardening", self.hardening, allow_zero=True)
-        if self.kinematics == "finite" and (self.damage or self.bbar):
-            raise ValueError("kinematics='finite' supports the plastic and elastic materials without B-bar "
-                             "(damage=False, bbar=False)")
+        if self.kinematics == "finite" and self.damage:
+            raise ValueError("kinematics='finite' supports the plastic and elastic materials (damage=False)")
         if isinstance(self.mesh, str):
             check_option("mesh", self.mesh, tuple(MESH_LEVELS))
         check_positive("size", self.size)
@@ -536,8 +535,8 @@ class LineSearchSolver(Solver):
     def _free_norm(self, residual):
         return float(np.linalg.norm(residual[self.constraints.free]))
 
-    def _correction(self, response, extra_K, residual, new_step: bool) -> np.ndarray:
-        du = super()._correction(response, extra_K, residual, new_step)
+    def _correction(self, response, extra_K, residual, new_step: bool, lift=None, u=None) -> np.ndarray:
+        du = super()._correction(response, extra_K, residual, new_step, lift=lift, u=u)
         u, state_old, ctx, key = self._last
         free = self.constraints.free
         norm0 = self._free_norm(residual)
