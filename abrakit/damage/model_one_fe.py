@@ -323,9 +323,9 @@ class ModelISolver(Solver):
         self._step, self._rejected = _Step(), None
 
     # ---- one load step of Algorithm 1 ----------------------------------------------------------------------------
-    def newton(self, u_trial, state_old, ctx: StepContext) -> NewtonResult:
+    def newton(self, u_trial, state_old, ctx: StepContext, lift=None) -> NewtonResult:
         """Stage 1 (Newton iterations, f frozen), then stage 2 (damage update); reject too large drops of f."""
-        res = super().newton(u_trial, state_old, ctx)
+        res = super().newton(u_trial, state_old, ctx, lift=lift)
         try:
             state = damage_update(self.model, res.response.state, self.kin.dx, self.laplacian, self.damage_scheme)
         except RuntimeError as exc:

@@ -228,9 +228,10 @@ class ScratchScene:
     at the start of the slide (default: the slide centred on the block); clearance: height of the apex above
     the surface at the start (≥ 0: a tip starting inside the block is refused); mu: Coulomb coefficient (0.1);
     penalty: factor of c_N = factor · E / h_y (1, the seed's default scaling); material: "plastic" (St-52) or
-    "elastic"; damage: Model II (Table 8.2) on top; damage_rate: how Model II's rate limit is fed, "step"
-    (Table 8.2 prints α in 1/s with Δt = 1 s: every increment may add α Δt = 0.05 to a sub-domain) or "work"
-    (Eq. 6.97: α times the work of the tip on the half model in the increment, α in 1/(N mm) as in Table 7.2);
+    "elastic"; damage: Model II (Table 8.2) on top; damage_rate: how Model II's rate limit is fed, "work" (the
+    default: Eq. 6.97, α times the work of the tip on the half model in the increment, α in 1/(N mm) as Eq. 6.98
+    requires and Table 7.2 prints; Table 8.2's "1/s" is taken as a misprint) or "step" (the literal reading of
+    Table 8.2, α in 1/s with Δt = 1 s: every increment may add α Δt = 0.05 to a sub-domain);
     mesh: a :class:`SpecimenMesh` or a level name of :data:`MESH_LEVELS`; size: the block (full width, thickness,
     length), mm; indent_steps, unload_steps: load increments of the two vertical phases; slide_step: apex
     advance per sliding increment (default h_z/4), mm; bbar: B-bar hexahedra against volumetric locking (F-bar
@@ -250,7 +251,7 @@ class ScratchScene:
     penalty: float = 1.0
     material: str = "plastic"
     damage: bool = False
-    damage_rate: str = "step"
+    damage_rate: str = "work"
     damage_energy: str = "full"
     mesh: SpecimenMesh | str = "default"
     size: tuple[float, float, float] = SPECIMEN
