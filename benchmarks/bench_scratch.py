@@ -42,8 +42,15 @@ from _common import RESULTS, save_figure
 
 from abrakit.io import CurveWriter, read_curve, read_json, write_json
 from abrakit.scratch import ConicalIndenter, SphericalIndenter
-from abrakit.scratch.scene import ScratchScene, run_scratch
+from abrakit.scratch.scene import SEED_FORMULATION, run_scratch
+from abrakit.scratch.scene import ScratchScene as _Scene
 from abrakit.wear import GRAIN_100UM, GRAIN_200UM, Grain, astm_g65_table
+
+
+def ScratchScene(**kwargs) -> _Scene:  # noqa: N802 - the studies of this benchmark are the seed's formulation
+    """The seed's small-strain, fully integrated scene (the studies of this benchmark reproduce the seed's
+    formulation; ``bench_scratch_steady.py`` studies the corrected one)."""
+    return _Scene(**(SEED_FORMULATION | kwargs))
 
 SEED_GRAINS = {100: {"A_g_um2": 88.4, "f_ab": 0.37}, 200: {"A_g_um2": 60.0, "f_ab": 0.12}}
 SEED_FORCE = 2.0

@@ -6,8 +6,7 @@ interrupted benchmark resumes, and runs can be computed ahead in another process
 
 1. **small vs finite strain** on the seed's scene (sphere R = 50 µm, d = 2 µm, μ = 0.1) slid 200 µm along a
    300 µm block, "demo" mesh: runtime, forces, A_g, A_s, f_ab, the budget at the end, and how F_N and the groove
-   section evolve along the slide (plateau onset, steady rates of every budget term per µm of slide); and on the
-   seed's own block and 100 µm slide with the "default" mesh;
+   section evolve along the slide (plateau onset, steady rates of every budget term per µm of slide);
 2. **what the rise of F_N comes from**: the same scene with traction-free ends instead of the seed's fixed ones,
    with B-bar hexahedra (no volumetric locking), with perfect plasticity (H = 0, no hardening), and at finite strain
    with F-bar hexahedra (finite strain without locking);
@@ -39,7 +38,14 @@ from abrakit.fem import Kinematics
 from abrakit.io import CurveWriter, read_curve, read_json, write_json
 from abrakit.scratch import SphericalIndenter
 from abrakit.scratch.budget import plateau_onset, removal_by_plastic_strain, steady_rates
-from abrakit.scratch.scene import ScratchScene, build_specimen, groove_along, run_scratch
+from abrakit.scratch.scene import (
+    SEED_FORMULATION,
+    GrooveAlong,
+    ScratchScene,
+    build_specimen,
+    groove_along,
+    run_scratch,
+)
 from abrakit.wear import GRAIN_100UM, GRAIN_200UM, Grain, astm_g65_table
 
 SEED_GRAINS = {100: {"A_g_um2": 88.4, "f_ab": 0.37}, 200: {"A_g_um2": 60.0, "f_ab": 0.12}}
@@ -65,34 +71,48 @@ def ploughing_friction(mu: float, R: float, d: float) -> float:
     return mu + (2 / math.pi) * (k * k * math.asin(1 / k) - math.sqrt(k * k - 1))
 
 
-def run_or_load(outdir: Path, name: str, scene: ScratchScene) -> Path:
-    """Run ``scene`` into ``outdir/scratch_steady/name`` unless a finished run of the same scene is there."""
+def run_or_load(outdir: Path, name: str, scene: ScratchScene, partial: bool = False) -> Path:
+    """Run ``scene`` into ``outdir/scratch_steady/name`` unless a finished run of the same scene is there
+    (``partial``: also accept the increments an unfinished run has written so far)."""
     folder = outdir / "scratch_steady" / name
     marker = folder / "scene.txt"
-    if marker.exists() and marker.read_text() == repr(scene) and (folder / "u.npy").exists():
+    if marker.exists() and marker.read_text() == repr(scene) and (
+            (folder / "u.npy").exists() or (partial and (folder / "forces.csv").exists())):
         print(f"[steady] {name}: stored", flush=True)
         return folder
     print(f"[steady] {name}: {scene.kinematics} strain, d = {scene.depth * 1e3:g} um, R = "
           f"{scene.indenter.radius * 1e3:g} um, slide {scene.slide * 1e3:g} um", flush=True)
+    folder.mkdir(parents=True, exist_ok=True)
+    marker.write_text(repr(scene))                      # first: the increments written so far belong to it
     result = run_scratch(scene, output=folder, vtu_every=0)
     np.save(folder / "u.npy", result.u)
     np.savez(folder / "state.npz", alpha_p=result.state["alpha_p"], J=result.state.get("J", np.ones(1)))
-    marker.write_text(repr(scene))
     print(f"[steady]   {result.wall_time:.0f} s, F_N = {result.mean_normal_force:.3f} N", flush=True)
     return folder
 
 
 def analyse(name: str, scene: ScratchScene, folder: Path) -> dict:
-    """Everything the tables and plots need from one stored run."""
-    summary = read_json(folder / "summary.json")
+    """Everything the tables and plots need from one stored run. An unfinished run (no ``summary.json`` yet, e.g.
+    still computing or interrupted) is analysed from the increments in its ``forces.csv``: forces, budget and rates
+    up to where it got, no grooves (``"finished": False``)."""
+    finished = (folder / "summary.json").exists() and (folder / "u.npy").exists()
     curves = read_curve(folder / "forces.csv")
     sliding = curves["phase"] == 1
     slide_um = curves["slide"][sliding] * 1e3
     rates = steady_rates(curves)
-    z = scene.path.z_start + np.linspace(0.0, scene.slide, 41)
-    along = groove_along(build_specimen(scene), np.load(folder / "u.npy"), scene, z)
-    g = summary["groove_unloaded"] or {}
-    budget = summary["volume_budget_um3"]
+    if finished:
+        summary = read_json(folder / "summary.json")
+        z = scene.path.z_start + np.linspace(0.0, scene.slide, 41)
+        along = groove_along(build_specimen(scene), np.load(folder / "u.npy"), scene, z)
+        g = summary["groove_unloaded"] or {}
+        budget = summary["volume_budget_um3"]
+    else:
+        nan = np.full(41, np.nan)
+        summary = {"elements": np.nan, "dofs": np.nan, "wall_time_s": float(curves["wall_time"][-1])}
+        along = GrooveAlong(scene.path.z_start + np.linspace(0.0, scene.slide, 41), nan, nan, nan)
+        g = {}
+        budget = {k: float(curves[f"V_{k}"][-1]) * 1e9 for k in ("groove", "shoulders", "prow", "sink", "faces",
+                                                                  "volume_change", "residual")}
     F_N, F_T = curves["normal_force"][sliding], curves["tangential_force"][sliding]
     last = slide_um >= 0.5 * slide_um.max()
     row = {
@@ -109,7 +129,9 @@ def analyse(name: str, scene: ScratchScene, folder: Path) -> dict:
         **{f"V_{k}_um3": budget[k] for k in ("groove", "shoulders", "prow", "sink", "faces", "volume_change",
                                              "residual")},
     }
-    removal = removal_study(scene, folder, rates) if (folder / "state.npz").exists() else None
+    removal = removal_study(scene, folder, rates) if finished and (folder / "state.npz").exists() else None
+    row["finished"] = finished
+    row["slide_reached_um"] = float(slide_um.max())
     return {"row": row, "removal": removal,
             "curves": {"slide_um": slide_um.tolist(), "F_N": F_N.tolist(), "F_T": F_T.tolist(),
                                    **{k: (curves[k][sliding] * 1e9).tolist() for k in
@@ -147,14 +169,12 @@ def critical_strain_for(removal: dict, f_ab: float) -> float:
 
 def planned(quick: bool) -> dict[str, ScratchScene]:
     geometry = SEED_BLOCK if quick else LONG
-    base = ScratchScene(mesh="demo", **geometry)
+    base = ScratchScene(mesh="demo", **SEED_FORMULATION, **geometry)
     plan = {"small": base, "finite": base.with_(kinematics="finite"),
             "small_free_ends": base.with_(end_faces="free"), "small_bbar": base.with_(bbar=True),
             "small_perfect_plastic": base.with_(hardening=0.0),
             "finite_fbar": base.with_(kinematics="finite", bbar=True)}
     if not quick:
-        seed = ScratchScene(mesh="default", **SEED_BLOCK)                 # the seed's scene and our default mesh
-        plan |= {"small_default_mesh": seed, "finite_default_mesh": seed.with_(kinematics="finite")}
         for ratio in DEPTHS_OVER_R:
             if not math.isclose(ratio * 0.05, base.depth):
                 plan[f"finite_d{ratio * 50:g}um"] = base.with_(kinematics="finite", depth=round(ratio * 0.05, 6))
@@ -169,7 +189,7 @@ def grain_scenes(depth_rows: list[dict]) -> dict[str, ScratchScene]:
     d, F = np.array(sorted((r["d_um"], r["F_N"]) for r in depth_rows)).T
     d50 = 0.5 * round(2 * float(np.interp(SEED_FORCE, F, d)))
     d100 = 0.25 * round(4 * 0.5 * d50)
-    base = ScratchScene(mesh="demo", kinematics="finite", **LONG)
+    base = ScratchScene(mesh="demo", kinematics="finite", bbar=False, **LONG)   # computed before F-bar existed
     return {"grain_100um": base.with_(depth=d50 * 1e-3),
             "grain_200um": base.with_(indenter=SphericalIndenter(0.1), depth=d100 * 1e-3)}
 
@@ -180,14 +200,14 @@ def corrected_grain(scene: ScratchScene, force: float) -> ScratchScene:
     return scene.with_(depth=0.25 * round(4 * scene.depth * 1e3 * SEED_FORCE / force) * 1e-3)
 
 
-def main(outdir: Path = RESULTS, quick: bool = False, only: str | None = None) -> dict:
+def main(outdir: Path = RESULTS, quick: bool = False, only: str | None = None, partial: bool = False) -> dict:
     outdir = Path(outdir)
     t0 = time.perf_counter()
     plan = planned(quick)
     if only is not None and only in plan:
         run_or_load(outdir, only, plan[only])
         return {}
-    runs = {name: analyse(name, scene, run_or_load(outdir, name, scene)) for name, scene in plan.items()}
+    runs = {name: analyse(name, scene, run_or_load(outdir, name, scene, partial)) for name, scene in plan.items()}
     results = {"mode": "quick" if quick else "full", "date": time.strftime("%Y-%m-%d %H:%M"), "runs": runs}
     if not quick:
         depth_rows = [runs[n]["row"] for n in runs if n.startswith("finite")]
@@ -203,7 +223,7 @@ def main(outdir: Path = RESULTS, quick: bool = False, only: str | None = None) -
             force = runs[name]["row"]["F_N"]
             if abs(force / SEED_FORCE - 1.0) > FORCE_TOLERANCE:         # one secant step with F ∝ d
                 corrected = corrected_grain(scene, force)
-                runs[name] = analyse(name, corrected, run_or_load(outdir, f"{name}_corrected", corrected))
+                runs[name] = analyse(name, corrected, run_or_load(outdir, f"{name}_corrected", corrected, partial))
         results["table_8_4"] = table_8_4(runs["grain_100um"]["row"], runs["grain_200um"]["row"])
         results["removal"] = {
             D: {"seed_f_ab": SEED_GRAINS[D]["f_ab"], "study": runs[name]["removal"],
@@ -293,6 +313,8 @@ if __name__ == "__main__":
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--quick", action="store_true", help="the seed's 100 um slides; parts 1-2 only")
     parser.add_argument("--only", metavar="NAME", help="compute one planned run ahead (e.g. in a second process)")
+    parser.add_argument("--partial", action="store_true",
+                        help="analyse unfinished runs from the increments they have written so far")
     parser.add_argument("--outdir", type=Path, default=RESULTS)
     args = parser.parse_args()
-    main(args.outdir, quick=args.quick, only=args.only)
+    main(args.outdir, quick=args.quick, only=args.only, partial=args.partial)

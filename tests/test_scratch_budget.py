@@ -11,11 +11,12 @@ import pytest
 
 from abrakit.fem import Kinematics
 from abrakit.scratch.budget import BoundaryFaces, volume_budget
-from abrakit.scratch.scene import ST52, ScratchScene, SpecimenMesh, build_specimen, run_scratch
+from abrakit.scratch.scene import SEED_FORMULATION, ST52, ScratchScene, SpecimenMesh, build_specimen, run_scratch
 
 TINY_BLOCK = (0.06, 0.015, 0.08)
 TINY_MESH = SpecimenMesh(h=0.003, h_z=0.004, h_y=0.001, growth=1.6, width=1.6)
-SCENE = ScratchScene(depth=0.0008, slide=0.02, mesh=TINY_MESH, size=TINY_BLOCK, indent_steps=4, unload_steps=2)
+SCENE = ScratchScene(depth=0.0008, slide=0.02, mesh=TINY_MESH, size=TINY_BLOCK, indent_steps=4, unload_steps=2,
+                     **SEED_FORMULATION)
 
 
 @pytest.fixture(scope="module")
@@ -49,9 +50,9 @@ def test_a_uniform_settlement_of_the_top_is_all_groove_and_volume_change(specime
 
 @pytest.fixture(scope="module")
 def scratches():
-    """The small-strain scene with the seed's friction, and a frictionless finite-strain one."""
+    """The small-strain scene with the seed's friction, and a frictionless finite-strain F-bar one."""
     return {"small": run_scratch(SCENE, vtu_every=0),
-            "finite": run_scratch(SCENE.with_(kinematics="finite", mu=0.0), vtu_every=0)}
+            "finite": run_scratch(SCENE.with_(kinematics="finite", bbar=True, mu=0.0), vtu_every=0)}
 
 
 def test_every_increment_of_a_scratch_closes_its_budget(scratches):

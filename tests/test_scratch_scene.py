@@ -14,6 +14,7 @@ from abrakit.scratch import SphericalIndenter
 from abrakit.scratch.contact import SLIP, STICK
 from abrakit.scratch.contact_term import IndenterContact, nodal_areas, surface_facets
 from abrakit.scratch.scene import (
+    SEED_FORMULATION,
     ScratchScene,
     SpecimenMesh,
     build_specimen,
@@ -216,7 +217,7 @@ def test_model_two_damage_obeys_the_rate_limit_of_the_tip_work():
     """damage_rate="work": every increment adds at most alpha times the tip's work on the half model (Eq. 6.97,
     6.98) to a sub-domain, so no damage exceeds alpha times the total work; removed material is reported."""
     scene = ScratchScene(damage=True, damage_rate="work", depth=0.0008, slide=0.008, unload=False, mesh=TINY_MESH,
-                         size=TINY_BLOCK, indent_steps=3)
+                         size=TINY_BLOCK, indent_steps=3, **SEED_FORMULATION)
     r = run_scratch(scene, vtu_every=0)
     c = r.curves
     tip_y, tip_z = np.r_[0.0, c["tip_y"]], np.r_[scene.path.z_start, c["tip_z"]]
@@ -232,7 +233,7 @@ def test_model_two_damage_obeys_the_rate_limit_of_the_tip_work():
 
 @pytest.mark.slow
 def test_plastic_scratch_leaves_a_groove_with_shoulders():
-    r = run_scratch(ScratchScene(slide=0.03, mesh="demo", size=(0.1, 0.015, 0.1)), vtu_every=0)
+    r = run_scratch(ScratchScene(slide=0.03, mesh="demo", size=(0.1, 0.015, 0.1), **SEED_FORMULATION), vtu_every=0)
     a = r.scene.footprint
     for g in (r.groove_loaded, r.groove_unloaded):
         assert g is not None and 0.0 <= g.degree_of_wear <= 1.0 and g.shoulder_area > 0.0
