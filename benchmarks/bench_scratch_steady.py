@@ -37,7 +37,7 @@ from _common import RESULTS, save_figure
 from abrakit.fem import Kinematics
 from abrakit.io import CurveWriter, read_curve, read_json, write_json
 from abrakit.scratch import SphericalIndenter
-from abrakit.scratch.budget import plateau_onset, removal_by_plastic_strain, steady_rates
+from abrakit.scratch.budget import SteadyRates, plateau_onset, removal_by_plastic_strain, steady_rates
 from abrakit.scratch.scene import (
     SEED_FORMULATION,
     GrooveAlong,
@@ -59,7 +59,7 @@ COLUMNS = ("name", "kinematics", "end_faces", "R_um", "d_um", "slide_um", "eleme
            "F_N", "F_T", "apparent_friction", "F_N_plateau_from_um", "A_g_um2", "A_s_um2", "f_ab",
            "rate_groove_um2", "rate_shoulders_um2", "rate_prow_um2", "rate_volume_change_um2", "f_ab_rates",
            "V_groove_um3", "V_shoulders_um3", "V_prow_um3", "V_sink_um3", "V_faces_um3", "V_volume_change_um3",
-           "V_residual_um3")
+           "V_residual_um3", "finished", "slide_reached_um")
 
 
 def ploughing_friction(mu: float, R: float, d: float) -> float:
@@ -76,6 +76,9 @@ def run_or_load(outdir: Path, name: str, scene: ScratchScene, partial: bool = Fa
     (``partial``: also accept the increments an unfinished run has written so far)."""
     folder = outdir / "scratch_steady" / name
     marker = folder / "scene.txt"
+    if marker.exists() and marker.read_text() != repr(scene) and (folder / "u.npy").exists():
+        raise RuntimeError(f"the stored run {folder} was computed for another scene ({marker.read_text()}); "
+                           "delete the folder to recompute it: a finished run is never overwritten")
     if marker.exists() and marker.read_text() == repr(scene) and (
             (folder / "u.npy").exists() or (partial and (folder / "forces.csv").exists())):
         print(f"[steady] {name}: stored", flush=True)
@@ -99,7 +102,9 @@ def analyse(name: str, scene: ScratchScene, folder: Path) -> dict:
     curves = read_curve(folder / "forces.csv")
     sliding = curves["phase"] == 1
     slide_um = curves["slide"][sliding] * 1e3
-    rates = steady_rates(curves)
+    # a finished run whose force curve was cut short (its increments lost) keeps its end state; no rates then
+    whole_curve = sliding.any() and slide_um.max() >= 0.99 * scene.slide * 1e3
+    rates = steady_rates(curves) if whole_curve or not finished else SteadyRates(*[np.nan] * 7)
     if finished:
         summary = read_json(folder / "summary.json")
         z = scene.path.z_start + np.linspace(0.0, scene.slide, 41)
@@ -115,13 +120,14 @@ def analyse(name: str, scene: ScratchScene, folder: Path) -> dict:
                                                                   "volume_change", "residual")}
     F_N, F_T = curves["normal_force"][sliding], curves["tangential_force"][sliding]
     last = slide_um >= 0.5 * slide_um.max()
+    mean_F_N = float(F_N[last].mean()) if whole_curve or not finished else summary["mean_normal_force_N"]
+    mean_F_T = float(F_T[last].mean()) if whole_curve or not finished else summary["mean_tangential_force_N"]
     row = {
         "name": name, "kinematics": scene.kinematics, "end_faces": scene.end_faces,
         "R_um": scene.indenter.radius * 1e3, "d_um": scene.depth * 1e3, "slide_um": scene.slide * 1e3,
         "elements": summary["elements"], "dofs": summary["dofs"], "wall_time_s": summary["wall_time_s"],
-        "F_N": float(F_N[last].mean()), "F_T": float(F_T[last].mean()),
-        "apparent_friction": float(F_T[last].mean() / F_N[last].mean()),
-        "F_N_plateau_from_um": plateau_onset(slide_um, F_N),
+        "F_N": mean_F_N, "F_T": mean_F_T, "apparent_friction": mean_F_T / mean_F_N,
+        "F_N_plateau_from_um": plateau_onset(slide_um, F_N) if whole_curve else np.nan,
         "A_g_um2": g.get("A_g_um2", np.nan), "A_s_um2": g.get("A_s_um2", np.nan), "f_ab": g.get("f_ab", np.nan),
         "rate_groove_um2": rates.groove * 1e6, "rate_shoulders_um2": rates.shoulders * 1e6,
         "rate_prow_um2": rates.prow * 1e6, "rate_volume_change_um2": rates.volume_change * 1e6,
@@ -129,7 +135,8 @@ def analyse(name: str, scene: ScratchScene, folder: Path) -> dict:
         **{f"V_{k}_um3": budget[k] for k in ("groove", "shoulders", "prow", "sink", "faces", "volume_change",
                                              "residual")},
     }
-    removal = removal_study(scene, folder, rates) if finished and (folder / "state.npz").exists() else None
+    removal = (removal_study(scene, folder, rates) if finished and whole_curve and (folder / "state.npz").exists()
+               else None)
     row["finished"] = finished
     row["slide_reached_um"] = float(slide_um.max())
     return {"row": row, "removal": removal,
@@ -210,7 +217,7 @@ def main(outdir: Path = RESULTS, quick: bool = False, only: str | None = None, p
     runs = {name: analyse(name, scene, run_or_load(outdir, name, scene, partial)) for name, scene in plan.items()}
     results = {"mode": "quick" if quick else "full", "date": time.strftime("%Y-%m-%d %H:%M"), "runs": runs}
     if not quick:
-        depth_rows = [runs[n]["row"] for n in runs if n.startswith("finite")]
+        depth_rows = [runs[n]["row"] for n in runs if n == "finite" or n.startswith("finite_d")]   # one formulation
         results["ploughing"] = [{"d_over_R": r["d_um"] / r["R_um"], "measured": r["apparent_friction"],
                                  "model": ploughing_friction(0.1, r["R_um"], r["d_um"])} for r in depth_rows]
         grains = grain_scenes(depth_rows)
@@ -264,7 +271,8 @@ def plot(results: dict, path: Path) -> None:
 
     runs = results["runs"]
     fig, ax = plt.subplots(2, 3, figsize=(15, 8.5))
-    for name, colour in (("small", "C0"), ("finite", "C3"), ("small_free_ends", "C2")):
+    for name, colour in (("small", "C0"), ("finite", "C3"), ("small_free_ends", "C2"), ("small_bbar", "C4"),
+                         ("finite_fbar", "k")):
         if name not in runs:
             continue
         c, a = runs[name]["curves"], runs[name]["along"]

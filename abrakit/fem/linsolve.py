@@ -21,9 +21,11 @@ import scipy.sparse.linalg as spla
 
 from ..validation import check_option
 
-# 3D problems with more free DOFs than this use AMG under linear_solver="auto". Measured on a hex block (one
-# elastic solve): SuperLU 0.4 s vs AMG-CG 0.9 s at 7.6k DOF, 11 s vs 6 s at 29k, 56 s vs 4.4 s at 71k DOF.
+# 3D problems with more free DOFs than this use AMG under linear_solver="auto" (benchmarks/bench_linear_solvers.py,
+# elastic hex block, factorisation + solve against AMG set-up + CG): with PARDISO 0.79 s vs 1.12 s at 28k DOFs and
+# 7.9 s vs 5.1 s at 90k; with SuperLU alone 4.8 s vs 1.1 s at 28k.
 AUTO_AMG_MIN_DOFS = 15_000
+AUTO_AMG_MIN_DOFS_PARDISO = 60_000
 
 
 class LinearSolveError(RuntimeError):
@@ -253,7 +255,8 @@ def make_linear_solver(kind, dim: int, n_free: int, near_null_space=None):
         return kind
     check_option("linear_solver", kind, ("auto", "direct", "pardiso", "superlu", "amg"))
     if kind == "auto":
-        kind = "amg" if dim == 3 and n_free > AUTO_AMG_MIN_DOFS else "direct"
+        threshold = AUTO_AMG_MIN_DOFS_PARDISO if pardiso_available() else AUTO_AMG_MIN_DOFS
+        kind = "amg" if dim == 3 and n_free > threshold else "direct"
     if kind == "amg":
         return AMGSolver(near_null_space)
     return DirectSolver("auto" if kind == "direct" else kind)
