@@ -401,76 +401,43 @@ def nested_dissection(points: np.ndarray, leaf: int = 192) -> np.ndarray:
 
 
 class ReusedPreconditioner:
-    """GMRES on the current tangent K, preconditioned by a factorisation of an *earlier* tangent, kept across
-    Newton iterations and load steps.
+    """GMRES on the current tangent K, preconditioned by a smoothed-aggregation AMG hierarchy (pyamg, on the
+    symmetric part of an *earlier* K, the rigid-body modes as near-null space) kept across Newton iterations and
+    load steps: the tangent of a scratch changes only near the tip, so the hierarchy stays a good preconditioner
+    for the largest scenes. It is rebuilt when GMRES needs more than ``rebuild_after`` iterations, or fails.
+    GMRES always sees K itself (the contact tangent is non-symmetric in slip).
 
-    The tangent of a scratch changes only near the tip (contact blocks, plastic points), so a sparse LU of an
-    earlier tangent (``kind="lu"``, SuperLU in the nested-dissection ``order`` with diagonal pivots, falling
-    back to SuperLU's own ordering and pivoting if a pivot vanishes) or a smoothed-aggregation AMG hierarchy
-    (``kind="amg"``, pyamg, on the symmetric part of K with the rigid-body modes as near-null space) stays a good
-    preconditioner: GMRES needs a few iterations per Newton correction and Newton keeps its quadratic
-    convergence, at the price of one factorisation every few corrections. The factorisation is redone when
-    GMRES needs more than ``rebuild_after`` iterations, or fails. GMRES always sees K itself (the contact tangent
-    is non-symmetric in slip).
-
-    Measured on the scratch (pyinstrument, "default" mesh, 24 000 DOFs): plastic points switching between
-    elastic and plastic change the tangent so much from one Newton iteration to the next that a stale LU needs
-    25–30 GMRES iterations, as costly as a new factorisation in the nested-dissection order (0.4 s); so
-    ``rebuild_after=0`` (the default for LU: a fresh factorisation for every correction, GMRES then takes one
-    iteration) is the fastest choice, and reuse pays only for the AMG hierarchy.
+    Measured on the scratch ("default" mesh, 24 000 DOFs): a stale *LU* as preconditioner needs 25–30 GMRES
+    iterations, as costly as a fresh factorisation, because plastic points switching between elastic and plastic
+    change the tangent too much; reuse pays for the AMG hierarchy only, and below 120 000 DOFs the direct solver
+    with a kept analysis (:class:`~abrakit.fem.DirectSolver`) is faster.
     """
 
-    def __init__(self, kind: str = "lu", *, order: np.ndarray | None = None, near_null_space=None,
-                 rtol: float = 1e-9, rebuild_after: int | None = None, maxiter: int = 300):
-        self.kind = check_option("kind", kind, ("lu", "amg"))
-        self.name = f"gmres+reused-{kind}"
-        self.order = order
+    name = "gmres+reused-amg"
+
+    def __init__(self, *, near_null_space=None, rtol: float = 1e-9, rebuild_after: int = 12, maxiter: int = 300):
         self.near_null_space = near_null_space
         self.rtol = rtol
-        self.rebuild_after = (0 if kind == "lu" else 12) if rebuild_after is None else rebuild_after
+        self.rebuild_after = rebuild_after
         self.maxiter = maxiter
         self._M = None
         self.builds = 0
         self.build_time = 0.0
         self.iterations: list[int] = []
 
-    def _factorise(self, K):
-        if self.order is not None:
-            p = self.order
-            try:
-                lu = spla.splu(sp.csc_matrix(K[p][:, p]), permc_spec="NATURAL", diag_pivot_thresh=0.0,
-                               options={"SymmetricMode": True})
-
-                def solve(b):
-                    x = np.empty_like(b)
-                    x[p] = lu.solve(b[p])
-                    return x
-
-                return solve
-            except RuntimeError:
-                pass                                          # a zero pivot: let SuperLU order and pivot
-        try:
-            return spla.splu(sp.csc_matrix(K), permc_spec="MMD_AT_PLUS_A").solve
-        except RuntimeError as exc:
-            raise LinearSolveError(f"sparse LU failed: {exc}") from exc
-
     def _build(self, K):
-        t0 = time.perf_counter()
-        if self.kind == "lu":
-            self._M = spla.LinearOperator(K.shape, matvec=self._factorise(K), dtype=float)
-        else:
-            import pyamg
+        import pyamg
 
-            sym = sp.csr_matrix(0.5 * (K + K.T))
-            ml = pyamg.smoothed_aggregation_solver(sym, B=self.near_null_space, symmetry="symmetric",
-                                                   max_coarse=500)
-            self._M = ml.aspreconditioner(cycle="V")
+        t0 = time.perf_counter()
+        sym = sp.csr_matrix(0.5 * (K + K.T))
+        ml = pyamg.smoothed_aggregation_solver(sym, B=self.near_null_space, symmetry="symmetric", max_coarse=500)
+        self._M = ml.aspreconditioner(cycle="V")
         self.builds += 1
         self.build_time += time.perf_counter() - t0
 
     def solve(self, K: sp.csr_matrix, rhs: np.ndarray, new_step: bool = True) -> np.ndarray:
         for attempt in range(2):
-            fresh = self._M is None or attempt == 1 or self.rebuild_after == 0
+            fresh = self._M is None or attempt == 1
             if fresh:
                 self._build(K)
             count = [0]
@@ -483,11 +450,11 @@ class ReusedPreconditioner:
             self.iterations.append(count[0])
             if info == 0 and np.all(np.isfinite(x)):
                 if count[0] > self.rebuild_after:
-                    self._M = None                                     # refactorise before the next solve
+                    self._M = None                                     # rebuild before the next solve
                 return x
             if fresh and attempt == 1:
                 break
-        raise LinearSolveError(f"GMRES with a fresh {self.kind} preconditioner did not converge")
+        raise LinearSolveError("GMRES with a fresh AMG preconditioner did not converge")
 
 
 def scene_linear_solver(solver: Solver, kind: str = "auto"):
@@ -507,7 +474,7 @@ def scene_linear_solver(solver: Solver, kind: str = "auto"):
         return DirectSolver("superlu", order=nested_dissection(points))
     component = np.zeros(solver.kin.ndof, dtype=int)
     component[solver.kin.element_dofs] = np.arange(solver.kin.nbf) % 3
-    return ReusedPreconditioner("amg", near_null_space=rigid_body_modes(points, component[free]))
+    return ReusedPreconditioner(near_null_space=rigid_body_modes(points, component[free]))
 
 
 # ---- Newton with a backtracking line search ---------------------------------------------------------------------
