@@ -33,6 +33,7 @@ from pathlib import Path
 
 import numpy as np
 from _common import RESULTS, save_figure
+from bench_scratch import FORCE_TOLERANCE, SEED_FORCE, SEED_GRAINS
 
 from abrakit.fem import Kinematics
 from abrakit.io import CurveWriter, read_curve, read_json, write_json
@@ -48,10 +49,6 @@ from abrakit.scratch.scene import (
 )
 from abrakit.wear import GRAIN_100UM, GRAIN_200UM, Grain, astm_g65_table
 
-SEED_GRAINS = {100: {"A_g_um2": 88.4, "f_ab": 0.37}, 200: {"A_g_um2": 60.0, "f_ab": 0.12}}
-SEED_FORCE = 2.0
-FORCE_TOLERANCE = 0.05
-"""A grain whose force misses SEED_FORCE by more than this share is scratched once more (secant in d)."""
 LONG = {"slide": 0.2, "size": (0.1, 0.015, 0.3)}
 SEED_BLOCK = {"slide": 0.1, "size": (0.1, 0.015, 0.2)}
 DEPTHS_OVER_R = (0.02, 0.04)

@@ -13,6 +13,7 @@ callable ``f(K, rhs) -> x``.
 
 from __future__ import annotations
 
+import functools
 import time
 
 import numpy as np
@@ -109,8 +110,10 @@ class _PardisoBackend:
 BACKENDS = ("auto", "pardiso", "superlu")
 
 
+@functools.cache
 def pardiso_available() -> bool:
-    """Whether the optional PARDISO back-end (pypardiso with MKL, extra ``fast``) can be loaded."""
+    """Whether the optional PARDISO back-end (pypardiso with MKL, extra ``fast``) can be loaded (probed once: the
+    probe searches for and loads the MKL library)."""
     try:
         import pypardiso
 
