@@ -15,6 +15,7 @@ from abrakit.scratch.contact import SLIP, STICK
 from abrakit.scratch.contact_term import IndenterContact, nodal_areas, surface_facets
 from abrakit.scratch.scene import (
     SEED_FORMULATION,
+    LineSearchSolver,
     ScratchScene,
     SpecimenMesh,
     build_specimen,
@@ -251,3 +252,37 @@ def test_groove_balance_accounts_for_the_section_exactly(elastic_slide):
     assert b.surface_change == pytest.approx(b.volume_change - b.carried_forward, rel=1e-12, abs=1e-18)
     # elastic, small displacements: the finite-strain volume change agrees with tr(eps) to second order
     assert b.finite_volume_change == pytest.approx(b.volume_change, rel=0.05)
+
+
+def test_line_search_trials_start_from_the_current_iterate(monkeypatch):
+    """Every trial point of the backtracking line search lies on the ray u + s du from the iterate u that Newton
+    passes (s = 1, 1/2, 1/4, ...), also in iterations whose evaluation came from the trial cache."""
+    from abrakit.fem.solver import Solver
+
+    evaluated, checked = [], []
+    plain_evaluate = Solver.evaluate
+
+    def spy_evaluate(self, u, state_old, ctx):
+        evaluated.append(np.array(u, copy=True))
+        return plain_evaluate(self, u, state_old, ctx)
+
+    plain_correction = LineSearchSolver._correction
+
+    def spy_correction(self, response, extra_K, residual, new_step, lift=None, u=None):
+        start = len(evaluated)
+        step = plain_correction(self, response, extra_K, residual, new_step, lift=lift, u=u)
+        free = self.constraints.free
+        for trial in evaluated[start:]:
+            offset = trial[free] - u[free]
+            s = float(offset @ step) / float(step @ step)
+            assert s > 0 and np.log2(s) == pytest.approx(round(np.log2(s)), abs=1e-9)
+            np.testing.assert_allclose(offset, s * step, rtol=0, atol=1e-12 * np.max(np.abs(u)))   # round-off of u
+        checked.append(len(evaluated) - start)
+        return step
+
+    monkeypatch.setattr(Solver, "evaluate", spy_evaluate)
+    monkeypatch.setattr(LineSearchSolver, "_correction", spy_correction)
+    scene = ScratchScene(depth=0.0008, slide=0.008, unload=False, mesh=TINY_MESH, size=TINY_BLOCK, indent_steps=3,
+                         kinematics="small", bbar=False)
+    run_scratch(scene, vtu_every=0)
+    assert len(checked) > 10 and sum(checked) >= len(checked)
