@@ -16,9 +16,13 @@ Two integrations of the flow rule ``eps_p' = rho dev sigma`` (6.53) over a step:
   step is the closed form used here). Because ``alpha_p`` grows with the old yield stress while
   ``|d eps_p|`` grows with the trial stress, the discrete ``alpha_p`` lags ``sum |d eps_p|``: a first-order
   error in the step size, zero for perfect plasticity (``K_H = 0``).
-- ``"implicit"``: classical radial return (backward Euler), exact on radial paths for any step size.
+- ``"implicit"`` (the default): classical radial return (backward Euler), exact on radial paths for any step size.
 
-Both return the algorithmic (consistent) tangent.
+Both return the algorithmic (consistent) tangent. The default is the implicit return: with hardening the seed's explicit update
+carries a first-order error in the step size (``benchmarks/bench_plasticity.py`` measures both against a converged
+reference), and a user who does not choose should get the scheme without it; ``integration="explicit"`` reproduces
+the seed. The damage
+models (Model I, Model II) keep the seed's explicit scheme as their default: their chapters reproduce the seed.
 """
 
 from __future__ import annotations
@@ -110,14 +114,15 @@ class VonMisesPlasticity(IsotropicElasticity):
     """Elastoplastic material of Table 6.1: ``E``, ``nu``, yield limit ``r_p`` and hardening ``K_H`` (MPa).
 
     State: ``eps``, ``eps_p`` (Mandel, deviatoric), ``alpha_p`` and ``dissipation`` (accumulated
-    ``r_p |d eps_p|``, Eq. 6.6, MPa). ``integration`` is ``"explicit"`` (seed, 6.59) or ``"implicit"``.
+    ``r_p |d eps_p|``, Eq. 6.6, MPa). ``integration`` is ``"implicit"`` (radial return, the default) or
+    ``"explicit"`` (the seed's Eq. 6.59).
     """
 
     E: float
     nu: float
     r_p: float
     K_H: float = 0.0
-    integration: str = "explicit"
+    integration: str = "implicit"
 
     def __post_init__(self):
         object.__setattr__(self, "E", check_positive("E", self.E))
