@@ -111,3 +111,12 @@ def test_superlu_reuses_its_own_fill_reducing_order():
     solver.solve(2.0 * K, rhs)
     again = solver.backend._lu[0]
     assert again.L.nnz + again.U.nnz <= 1.01 * (first.L.nnz + first.U.nnz)
+
+
+@pytest.mark.skipif(not pardiso_available(), reason="pypardiso/MKL not installed")
+def test_pardiso_probe_names_the_mkl_library_for_later_solvers():
+    """pypardiso globs the whole environment for mkl_rt at every construction unless PYPARDISO_MKL_RT names it;
+    the probe names the library it found (an existing file), so later solvers load it directly."""
+    import os
+
+    assert os.path.isfile(os.environ["PYPARDISO_MKL_RT"])

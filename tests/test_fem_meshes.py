@@ -133,3 +133,27 @@ def test_invalid_dimensions_raise():
         meshes.ring_sector(10.0, 5.0)
     with pytest.raises(ValueError, match="ratio"):
         meshes.graded(4, -1.0)
+
+
+def test_quadratic_plate_with_hole_has_a_curved_hole_and_the_exact_area():
+    """order=2: every node of the hole's edges (vertices and mid-sides) lies on the circle, the vertices are those of
+    the bilinear mesh, and the biquadratic geometry's area is exact to O(h⁴) where the straight-sided mesh misses the
+    circle segments."""
+    linear = meshes.plate_with_hole(n_angular=8, n_radial=4)
+    curved = meshes.plate_with_hole(n_angular=8, n_radial=4, order=2)
+    assert isinstance(curved, skfem.MeshQuad2)
+    np.testing.assert_array_equal(curved.doflocs[:, : linear.p.shape[1]], linear.p)
+    hole_vertices = np.unique(curved.facets[:, curved.boundaries["hole"]])
+    basis = skfem.FacetBasis(curved, skfem.ElementQuad2(), facets=curved.boundaries["hole"])
+    r = np.hypot(*basis.doflocs[:, basis.get_dofs(facets="hole").flatten()])
+    np.testing.assert_allclose(r, 10.0, rtol=1e-13)
+    assert hole_vertices.size == 9 and r.size == 2 * 8 + 1                       # 9 vertices and 8 mid-sides
+    exact = 50.0 * 50.0 - np.pi * 10.0**2 / 4
+
+    def area(mesh, element):
+        return skfem.Functional(lambda w: 1.0).assemble(skfem.CellBasis(mesh, element, intorder=6))
+
+    assert abs(area(curved, skfem.ElementQuad2()) / exact - 1) < 1e-6
+    assert abs(area(linear, skfem.ElementQuad1()) / exact - 1) > 1e-4
+    with pytest.raises(ValueError, match="order"):
+        meshes.plate_with_hole(order=3)

@@ -163,7 +163,7 @@ def test_a_lifted_elastic_first_step_of_the_plate_needs_one_iteration():
         result = solver.run(progress=False)
         assert result.cutbacks == 0
         iterations[lift] = result.iterations[1]
-    assert iterations[True] == 1 and iterations[False] == 2
+    assert iterations[True] == 1 and iterations[False] >= 2     # unlifted: 2 (full integration), 4 (B-bar)
 
 
 # ---- load stepping: cutback, growth, failure ---------------------------------------------------------------------

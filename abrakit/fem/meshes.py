@@ -59,7 +59,7 @@ def _tag(mesh, **boundaries):
 
 
 def plate_with_hole(width: float = 50.0, height: float = 50.0, radius: float = 10.0, n_angular: int = 16,
-                    n_radial: int = 12, grading: float = 4.0, triangles: bool = False, angles=None):
+                    n_radial: int = 12, grading: float = 4.0, triangles: bool = False, angles=None, order: int = 1):
     """Quarter of a plate with a central hole: [0, width] x [0, height] minus the disc of ``radius`` at 0.
 
     Defaults (seed Fig. 7.1 missing): plate 100 x 100 mm, hole diameter 20 mm, i.e. the quarter 50 x 50 mm.
@@ -68,6 +68,10 @@ def plate_with_hole(width: float = 50.0, height: float = 50.0, radius: float = 1
     ``angles`` (optional) are the ray angles from 0 to pi/2 including the corner ray atan2(height, width),
     e.g. graded towards a ligament; by default ``n_angular`` uniform steps on each side of the corner.
     Boundaries: ``hole``, ``left`` (x = 0, symmetry), ``bottom`` (y = 0, symmetry), ``right``, ``top``.
+
+    ``order=2`` gives a 9-node ``MeshQuad2`` (for Q8/Q9 fields) whose mid-side and centre nodes are placed by the same
+    map as the vertices, ray angle interpolated between the rays: the hole's edges are then curved (their nodes lie
+    on the circle), the outer edges stay straight.
     """
     width, height = check_positive("width", width), check_positive("height", height)
     radius = check_range("radius", radius, 0.0, min(width, height), low_open=True, high_open=True)
@@ -82,17 +86,23 @@ def plate_with_hole(width: float = 50.0, height: float = 50.0, radius: float = 1
                 or np.any(np.diff(theta) <= 0) \
                 or not np.any(np.isclose(theta, corner, rtol=0.0, atol=1e-14)):
             raise ValueError("angles must increase from 0 to pi/2 and contain the corner ray atan2(height, width)")
+    if order not in (1, 2):
+        raise ValueError(f"order must be 1 (bilinear geometry) or 2 (biquadratic, curved hole), got {order!r}")
+    if order == 2 and triangles:
+        raise ValueError("order=2 is for quadrilaterals: triangles=True takes order=1")
     s = graded(n_radial, grading)
-    mesh = skfem.MeshQuad.init_tensor(s, np.arange(theta.size, dtype=float))
-    S, k = mesh.p
-    th = theta[np.rint(k).astype(int)]
+    mesh = skfem.MeshQuad.init_tensor(s, np.arange(theta.size, dtype=float))     # parameter plane (S, ray index)
+    if order == 2:
+        mesh = skfem.MeshQuad2.from_mesh(mesh)
+    S, k = mesh.doflocs
+    th = np.interp(k, np.arange(theta.size), theta)
     inner = radius * np.stack((np.cos(th), np.sin(th)))
     outer = np.where(th <= corner + 1e-14,
                      np.stack((np.full_like(th, width), width * np.tan(th))),
                      np.stack((height / np.tan(np.maximum(th, 1e-300)), np.full_like(th, height))))
     outer[0, np.isclose(th, np.pi / 2)] = 0.0
     p = inner + S * (outer - inner)
-    mesh = skfem.MeshQuad(p, mesh.t)
+    mesh = type(mesh)(p, mesh.t)
     if triangles:
         mesh = mesh.to_meshtri()
     return _tag(mesh,

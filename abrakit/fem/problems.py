@@ -14,6 +14,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
+import skfem
 from scipy.optimize import brentq
 
 from ..materials import TABLE_7_1
@@ -27,23 +28,35 @@ from .solver import Solver
 TABLE_7_1_PLASTICITY = {k: TABLE_7_1[k] for k in ("E", "nu", "r_p", "K_H")}
 
 
+PLATE_ELEMENTS = {"Q4": skfem.ElementQuad1, "Q8": skfem.ElementQuadS2, "Q9": skfem.ElementQuad2}
+
+
 def plate_with_hole_problem(material, *, width=50.0, height=50.0, radius=10.0, displacement=0.05, n_angular=16,
-                            n_radial=12, grading=4.0, thickness: float | None = None, **solver_options) -> Solver:
+                            n_radial=12, grading=4.0, thickness: float | None = None, element: str = "Q4",
+                            bbar: bool | None = None, **solver_options) -> Solver:
     """Quarter plate with a hole, symmetry on ``left``/``bottom``, top edge pulled by ``displacement`` (mm).
 
     ``thickness=None`` gives plane strain (forces per mm); a number extrudes the mesh into one layer of hexes
     of that thickness (the seed's 3 mm, one element) with ``front`` held in z. The reaction of the top edge is
-    recorded as ``F_top`` and its displacement as ``u_top``.
+    recorded as ``F_top`` and its displacement as ``u_top``. ``element``: ``"Q4"`` (bilinear), ``"Q8"``
+    (serendipity) or ``"Q9"`` (biquadratic); the quadratic ones sit on the curved 9-node geometry of
+    ``meshes.plate_with_hole(order=2)`` (hole edges on the circle). ``bbar`` defaults to True for Q4 (and its
+    extruded hexahedra), whose full integration locks in isochoric plastic flow, and to False for Q8/Q9.
     """
-    mesh = meshes.plate_with_hole(width, height, radius, n_angular, n_radial, grading)
+    if element not in PLATE_ELEMENTS:
+        raise ValueError(f"element must be one of {tuple(PLATE_ELEMENTS)}, got {element!r}")
+    linear = element == "Q4"
+    if thickness is not None and not linear:
+        raise ValueError("thickness (one layer of hexahedra) needs element='Q4'")
+    mesh = meshes.plate_with_hole(width, height, radius, n_angular, n_radial, grading, order=1 if linear else 2)
     if thickness is not None:
         mesh = meshes.extrude(mesh, thickness, 1)
-    basis = vector_basis(mesh)
+    basis = vector_basis(mesh, None if linear else PLATE_ELEMENTS[element]())
     conditions = [Dirichlet.on(basis, "left", "x"), Dirichlet.on(basis, "bottom", "y")]
     if thickness is not None:
         conditions.append(Dirichlet.on(basis, "front", "z"))
     conditions.append(Dirichlet.on(basis, "top", "y", displacement, name="top"))
-    return Solver(basis, material, conditions, **solver_options)
+    return Solver(basis, material, conditions, bbar=linear if bbar is None else bbar, **solver_options)
 
 
 def thick_cylinder_problem(material, *, inner=10.0, outer=20.0, pressure=100.0, n_radial=12, n_angular=12,

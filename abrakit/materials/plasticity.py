@@ -18,10 +18,10 @@ Two integrations of the flow rule ``eps_p' = rho dev sigma`` (6.53) over a step:
   error in the step size, zero for perfect plasticity (``K_H = 0``).
 - ``"implicit"`` (the default): classical radial return (backward Euler), exact on radial paths for any step size.
 
-Both return the algorithmic (consistent) tangent. The default is the implicit return: with hardening the seed's explicit update
-carries a first-order error in the step size (``benchmarks/bench_plasticity.py`` measures both against a converged
-reference), and a user who does not choose should get the scheme without it; ``integration="explicit"`` reproduces
-the seed. The damage
+Both return the algorithmic (consistent) tangent. The default is the implicit return: with hardening the seed's
+explicit update carries a first-order error in the step size (``benchmarks/bench_plasticity.py`` measures both
+against a converged reference), and a user who does not choose should get the scheme without it;
+``integration="explicit"`` reproduces the seed. The damage
 models (Model I, Model II) keep the seed's explicit scheme as their default: their chapters reproduce the seed.
 """
 
