@@ -10,18 +10,19 @@ interrupted benchmark resumes, and runs can be computed ahead in another process
 2. **what the rise of F_N comes from**: the same scene with traction-free ends instead of the seed's fixed ones,
    with B-bar hexahedra (no volumetric locking), with perfect plasticity (H = 0, no hardening), and at finite strain
    with F-bar hexahedra (finite strain without locking);
-3. **depth sweep** (finite strain): d/R = 0.02, 0.04 — apparent friction F_T/F_N against the
-   ploughing model of Bowden & Tabor / Goddard & Wilman for a sphere,
-   μ_app = μ + (2/π) [(R/a)² asin(a/R) − √((R/a)² − 1)], a the contact radius (here √(2Rd − d²), the
-   geometric footprint of a tip that ploughs without pile-up);
-4. **grains** of Sec. 8.4 at the seed's f_N = 2 N (finite strain, D = 100 and 200 µm): A_g and f_ab from the
-   steady rates and from the mid-length section after unloading, and Table 8.4 recomputed from them beside the
-   printed table and the seed's own inputs.
+3. **depth sweeps** at finite strain, with full integration (d/R = 0.02, 0.04) and with F-bar (d/R = 0.02, 0.04,
+   0.08, 0.1; the grains below are two of its points): apparent friction F_T/F_N against the ploughing model of
+   Bowden & Tabor / Goddard & Wilman for a sphere, μ_app = μ + (2/π) [(R/a)² asin(a/R) − √((R/a)² − 1)], a the
+   contact radius (here √(2Rd − d²), the geometric footprint of a tip that ploughs without pile-up);
+4. **grains** of Sec. 8.4 at the seed's f_N = 2 N (finite strain, F-bar, D = 100 and 200 µm; and with full
+   integration for comparison): A_g and f_ab from the steady rates and from the mid-length section after
+   unloading, and Table 8.4 recomputed from them beside the printed table and the seed's own inputs, with the
+   removal study (f_ab if material above a plastic strain ε_c were removed).
 
 ``quick=True`` runs parts 1 and 2 on 100 µm slides of a 200 µm block (the seed's block) and skips 3 and 4.
 Writes ``scratch_steady.json``, ``scratch_steady.csv`` and ``scratch_steady.png``.
 
-    python benchmarks/bench_scratch_steady.py [--quick] [--only NAME] [--outdir DIR]
+    python benchmarks/bench_scratch_steady.py [--quick] [--only NAME] [--partial] [--stored-only] [--outdir DIR]
 """
 
 from __future__ import annotations
@@ -51,7 +52,6 @@ from abrakit.wear import GRAIN_100UM, GRAIN_200UM, Grain, astm_g65_table
 
 LONG = {"slide": 0.2, "size": (0.1, 0.015, 0.3)}
 SEED_BLOCK = {"slide": 0.1, "size": (0.1, 0.015, 0.2)}
-DEPTHS_OVER_R = (0.02, 0.04)
 COLUMNS = ("name", "kinematics", "end_faces", "R_um", "d_um", "slide_um", "elements", "dofs", "wall_time_s",
            "F_N", "F_T", "apparent_friction", "F_N_plateau_from_um", "A_g_um2", "A_s_um2", "f_ab",
            "rate_groove_um2", "rate_shoulders_um2", "rate_prow_um2", "rate_volume_change_um2", "f_ab_rates",
@@ -172,30 +172,35 @@ def critical_strain_for(removal: dict, f_ab: float) -> float:
 
 
 def planned(quick: bool) -> dict[str, ScratchScene]:
+    """The formulation study (parts 1 and 2) and, unless ``quick``, the depth sweeps and grains (parts 3 and 4)."""
     geometry = SEED_BLOCK if quick else LONG
     base = ScratchScene(mesh="demo", **SEED_FORMULATION, **geometry)
     plan = {"small": base, "finite": base.with_(kinematics="finite"),
             "small_free_ends": base.with_(end_faces="free"), "small_bbar": base.with_(bbar=True),
             "small_perfect_plastic": base.with_(hardening=0.0),
             "finite_fbar": base.with_(kinematics="finite", bbar=True)}
-    if not quick:
-        for ratio in DEPTHS_OVER_R:
-            if not math.isclose(ratio * 0.05, base.depth):
-                plan[f"finite_d{ratio * 50:g}um"] = base.with_(kinematics="finite", depth=round(ratio * 0.05, 6))
+    if quick:
+        return plan
+    full, fbar = base.with_(kinematics="finite"), base.with_(kinematics="finite", bbar=True)
+    plan["finite_d1um"] = full.with_(depth=0.001)                    # d/R = 0.02, full integration
+    plan.update({name: fbar.with_(indenter=SphericalIndenter(R), depth=d) for name, (R, d) in GRAINS.items()})
+    plan["fbar_d5um"] = fbar.with_(depth=0.005)                      # d/R = 0.1
+    plan["grain_200um_fullint"] = full.with_(indenter=SphericalIndenter(0.1), depth=0.001)
     return plan
 
 
-def grain_scenes(depth_rows: list[dict]) -> dict[str, ScratchScene]:
-    """D = 100 µm (R = 50) and D = 200 µm (R = 100) at the depth where the finite-strain sweep gives 2 N over the
-    second half of the slide (interpolated in d and rounded to 0.5 µm; R = 100 at half that depth, rounded to
-    0.25 µm, since F ∝ R d for a fully plastic contact). The seed does not state its depths; the rounding lets a
-    grain reuse a sweep run of the same depth."""
-    d, F = np.array(sorted((r["d_um"], r["F_N"]) for r in depth_rows)).T
-    d50 = 0.5 * round(2 * float(np.interp(SEED_FORCE, F, d)))
-    d100 = 0.25 * round(4 * 0.5 * d50)
-    base = ScratchScene(mesh="demo", kinematics="finite", bbar=False, **LONG)   # computed before F-bar existed
-    return {"grain_100um": base.with_(depth=d50 * 1e-3),
-            "grain_200um": base.with_(indenter=SphericalIndenter(0.1), depth=d100 * 1e-3)}
+GRAINS = {"grain_100um": (0.05, 0.004), "grain_200um": (0.1, 0.002)}
+"""The grains of Sec. 8.4 (finite strain, F-bar): (R, d) in mm. The seed does not state its depths, only f_N = 2 N.
+The d = 2 µm, R = 50 µm F-bar run carries F_N = 1.03 N; a fully plastic contact carries F = p_m π a²/2 with
+a² ≈ 2 R d, so 2 N needs R d ≈ 200 µm², d = 4 µm for R = 50 µm and d = 2 µm for R = 100 µm. A grain whose force
+misses 2 N by more than ``FORCE_TOLERANCE`` is scratched once more at the depth that scales its force to 2 N."""
+
+SWEEPS = {"finite strain, full integration": ("finite_d1um", "finite"),
+          "finite strain, F-bar": ("grain_200um", "finite_fbar", "grain_100um", "fbar_d5um")}
+"""The d/R sweeps of the apparent friction (runs named in the plan, with their depths and radii)."""
+
+FULLINT_GRAINS = {"grain_100um_fullint": "finite", "grain_200um_fullint": "grain_200um_fullint"}
+"""The grains with full integration (computed before F-bar existed: they lock into a growing prow)."""
 
 
 def corrected_grain(scene: ScratchScene, force: float) -> ScratchScene:
@@ -204,36 +209,56 @@ def corrected_grain(scene: ScratchScene, force: float) -> ScratchScene:
     return scene.with_(depth=0.25 * round(4 * scene.depth * 1e3 * SEED_FORCE / force) * 1e-3)
 
 
-def main(outdir: Path = RESULTS, quick: bool = False, only: str | None = None, partial: bool = False) -> dict:
+def at_seed_force(outdir: Path, name: str, scene: ScratchScene, entry: dict, partial: bool,
+                  stored_only: bool = False) -> dict:
+    """The grain's analysis at 2 N: its own run, or one secant step (F ∝ d) when its force misses 2 N
+    (``stored_only``: only if that run is already stored; otherwise the grain is kept at its own force)."""
+    force = entry["row"]["F_N"]
+    if abs(force / SEED_FORCE - 1.0) <= FORCE_TOLERANCE or not entry["row"]["finished"]:
+        return entry
+    corrected = corrected_grain(scene, force)
+    folder = outdir / "scratch_steady" / f"{name}_corrected"
+    if stored_only and not (folder / "u.npy").exists():
+        print(f"[steady] {name}: F_N = {force:.2f} N misses 2 N; the corrected run (d = {corrected.depth * 1e3:g} "
+              "um) is not stored, the grain is kept at its own force", flush=True)
+        return entry
+    return analyse(name, corrected, run_or_load(outdir, f"{name}_corrected", corrected, partial))
+
+
+def main(outdir: Path = RESULTS, quick: bool = False, only: str | None = None, partial: bool = False,
+         stored_only: bool = False) -> dict:
     outdir = Path(outdir)
     t0 = time.perf_counter()
     plan = planned(quick)
-    if only is not None and only in plan:
+    if only is not None:
+        if only not in plan:
+            raise ValueError(f"--only: unknown run {only!r}; planned runs: {', '.join(plan)}")
         run_or_load(outdir, only, plan[only])
         return {}
+    if stored_only:
+        plan = {n: sc for n, sc in plan.items() if (outdir / "scratch_steady" / n / "forces.csv").exists()}
     runs = {name: analyse(name, scene, run_or_load(outdir, name, scene, partial)) for name, scene in plan.items()}
     results = {"mode": "quick" if quick else "full", "date": time.strftime("%Y-%m-%d %H:%M"), "runs": runs}
     if not quick:
-        depth_rows = [runs[n]["row"] for n in runs if n == "finite" or n.startswith("finite_d")]   # one formulation
-        results["ploughing"] = [{"d_over_R": r["d_um"] / r["R_um"], "measured": r["apparent_friction"],
-                                 "model": ploughing_friction(0.1, r["R_um"], r["d_um"])} for r in depth_rows]
-        grains = grain_scenes(depth_rows)
-        if only is not None and only in grains:
-            run_or_load(outdir, only, grains[only])
-            return {}
-        for name, scene in grains.items():
-            same = next((n for n, sc in plan.items() if sc == scene), None)
-            runs[name] = runs[same] if same else analyse(name, scene, run_or_load(outdir, name, scene))
-            force = runs[name]["row"]["F_N"]
-            if abs(force / SEED_FORCE - 1.0) > FORCE_TOLERANCE:         # one secant step with F ∝ d
-                corrected = corrected_grain(scene, force)
-                runs[name] = analyse(name, corrected, run_or_load(outdir, f"{name}_corrected", corrected, partial))
-        results["table_8_4"] = table_8_4(runs["grain_100um"]["row"], runs["grain_200um"]["row"])
+        results["ploughing"] = {
+            label: [{"name": n, "d_over_R": runs[n]["row"]["d_um"] / runs[n]["row"]["R_um"],
+                     "measured": runs[n]["row"]["apparent_friction"],
+                     "model": ploughing_friction(0.1, runs[n]["row"]["R_um"], runs[n]["row"]["d_um"])}
+                    for n in names if n in runs]
+            for label, names in SWEEPS.items()}
+        grains = {name: at_seed_force(outdir, name, plan[name], runs[name], partial, stored_only)
+                  for name in GRAINS if name in runs}
+        fullint = {name: at_seed_force(outdir, name, plan[source], runs[source], partial, stored_only)
+                   for name, source in FULLINT_GRAINS.items() if source in runs}
+        runs.update({f"{n}_at_2N": e for n, e in {**grains, **fullint}.items() if e is not runs.get(n)})
+        for key, pair in (("table_8_4", grains), ("table_8_4_fullint", fullint)):
+            if len(pair) == 2:
+                results[key] = table_8_4(*(entry["row"] for entry in pair.values()))
         results["removal"] = {
-            D: {"seed_f_ab": SEED_GRAINS[D]["f_ab"], "study": runs[name]["removal"],
-                "eps_c_for_seed_f_ab": critical_strain_for(runs[name]["removal"], SEED_GRAINS[D]["f_ab"])
-                if runs[name]["removal"] else None}
-            for D, name in ((100, "grain_100um"), (200, "grain_200um"))}
+            D: {"seed_f_ab": SEED_GRAINS[D]["f_ab"], "study": grains[name]["removal"],
+                "eps_c_for_seed_f_ab": critical_strain_for(grains[name]["removal"], SEED_GRAINS[D]["f_ab"])
+                if grains[name]["removal"] else None}
+            for D, name in ((100, "grain_100um"), (200, "grain_200um")) if name in grains}
     results["wall_time_s"] = time.perf_counter() - t0
     with CurveWriter(outdir / "scratch_steady.csv", COLUMNS) as w:
         for entry in runs.values():
@@ -283,7 +308,7 @@ def plot(results: dict, path: Path) -> None:
                  title="groove section along the wake (after unloading)")
     for a in ax[0, :2]:
         a.legend(fontsize=7)
-    for k, name in enumerate(("small", "finite")):
+    for k, name in enumerate(("small", "finite_fbar")):
         if name not in runs:
             continue
         c, a = runs[name]["curves"], ax[1, k]
@@ -291,15 +316,16 @@ def plot(results: dict, path: Path) -> None:
         parts = [np.array(c["V_shoulders"]), np.array(c["V_prow"]), -np.array(c["V_volume_change"])]
         a.stackplot(s, *parts, labels=["shoulders", "prow", "volume lost (−∫(J−1)dV)"], alpha=0.7)
         a.plot(s, np.array(c["V_groove"]) + np.array(c["V_sink"]), "k-", lw=2, label="groove + sink")
-        a.set(xlabel="slide [um]", ylabel="volume [um³]", title=f"volume budget, {name} strain")
+        a.set(xlabel="slide [um]", ylabel="volume [um³]", title=f"volume budget, {name}")
         a.legend(fontsize=7, loc="upper left")
     a = ax[0, 2]
     if "ploughing" in results:
-        p = sorted(results["ploughing"], key=lambda x: x["d_over_R"])
-        x = [q["d_over_R"] for q in p]
-        a.plot(x, [q["measured"] for q in p], "C3o-", label="finite-strain FE (F_T/F_N)")
-        a.plot(x, [q["model"] for q in p], "k--", label="Bowden-Tabor / Goddard-Wilman")
-        a.set(xlabel="d/R", ylabel="apparent friction", title="apparent friction, sphere, mu = 0.1")
+        for (label, points), style in zip(results["ploughing"].items(), ("C3o-", "ks-"), strict=False):
+            p = sorted(points, key=lambda x: x["d_over_R"])
+            a.plot([q["d_over_R"] for q in p], [q["measured"] for q in p], style, label=f"FE, {label}")
+        x = np.linspace(0.01, 0.11, 50)
+        a.plot(x, [ploughing_friction(0.1, 1.0, r) for r in x], "C0--", label="Bowden-Tabor / Goddard-Wilman")
+        a.set(xlabel="d/R", ylabel="apparent friction F_T/F_N", title="apparent friction, sphere, mu = 0.1")
         a.legend(fontsize=8)
     a = ax[1, 2]
     if "table_8_4" in results:
@@ -320,6 +346,8 @@ if __name__ == "__main__":
     parser.add_argument("--only", metavar="NAME", help="compute one planned run ahead (e.g. in a second process)")
     parser.add_argument("--partial", action="store_true",
                         help="analyse unfinished runs from the increments they have written so far")
+    parser.add_argument("--stored-only", action="store_true",
+                        help="analyse the stored runs only: start no computation (a missing run is left out)")
     parser.add_argument("--outdir", type=Path, default=RESULTS)
     args = parser.parse_args()
-    main(args.outdir, quick=args.quick, only=args.only, partial=args.partial)
+    main(args.outdir, quick=args.quick, only=args.only, partial=args.partial, stored_only=args.stored_only)
