@@ -46,10 +46,13 @@ from abrakit.dem.measure import (
     kinetic_energy,
     love_weber_stress,
     porosity,
+    relax,
+    unbalanced_force_ratio,
     wall_stress,
 )
 from abrakit.dem.neighbours import VerletList, candidate_pairs
 from abrakit.dem.output import HistoryWriter, VtuWriter, callbacks
+from abrakit.dem.periodic import ElasticConstants, Periodic, elastic_probe
 from abrakit.dem.scenes import (
     bonded_chain_wave,
     bonded_pair,
@@ -65,15 +68,16 @@ from abrakit.dem.state import ContactSet, Particles
 from abrakit.dem.walls import Servo, Walls
 
 __all__ = [
-    "Clumps", "ContactForces", "ContactSet", "CrackLog", "EnergyAccount", "HertzMindlin", "HistoryWriter",
-    "Linear", "ParallelBonds", "ParticleEscapeError", "Particles", "Servo", "Simulation", "TimeStepError",
-    "VerletList", "VtuWriter", "Walls", "bonded_chain_wave", "bonded_pair", "box_strain", "callbacks",
-    "candidate_pairs", "clump_particles", "contact_density", "coordination_number", "critical_time_step",
-    "demo", "dense_packing", "dyad", "energy_balance", "force_displacement", "hertz_normal_coefficient",
-    "hertz_shear_coefficient", "impact_analytic", "install_contact_bonds", "install_parallel_bonds",
-    "kinetic_energy", "leapfrog", "local_damping", "love_weber_stress", "make_clumps", "parallel_bond_update",
-    "peanut", "porosity", "rolling_sphere", "series_stiffness", "settling", "sphere_wall_impact",
-    "two_sphere_impact", "wall_stress",
+    "Clumps", "ContactForces", "ContactSet", "CrackLog", "ElasticConstants", "EnergyAccount", "HertzMindlin",
+    "HistoryWriter", "Linear", "ParallelBonds", "ParticleEscapeError", "Particles", "Periodic", "Servo",
+    "Simulation", "TimeStepError", "VerletList", "VtuWriter", "Walls", "bonded_chain_wave", "bonded_pair",
+    "box_strain", "callbacks", "candidate_pairs", "clump_particles", "contact_density", "coordination_number",
+    "critical_time_step", "demo", "dense_packing", "dyad", "elastic_probe", "energy_balance",
+    "force_displacement", "hertz_normal_coefficient", "hertz_shear_coefficient", "impact_analytic",
+    "install_contact_bonds", "install_parallel_bonds", "kinetic_energy", "leapfrog", "local_damping",
+    "love_weber_stress", "make_clumps", "parallel_bond_update", "peanut", "porosity", "relax", "rolling_sphere",
+    "series_stiffness", "settling", "sphere_wall_impact", "two_sphere_impact", "unbalanced_force_ratio",
+    "wall_stress",
 ]
 
 

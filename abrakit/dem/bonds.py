@@ -52,10 +52,10 @@ class CrackLog:
         return {name: np.concatenate([c[k] for c in self._chunks]) for k, name in enumerate(names)}
 
 
-def _pair_geometry(x, radius, i, j):
-    d = x[j] - x[i]
+def _pair_geometry(sim, i, j):
+    d = sim.branch(i, j)
     dist = np.linalg.norm(d, axis=1)
-    return d, dist, radius[i] + radius[j] - dist
+    return d, dist, sim.particles.radius[i] + sim.particles.radius[j] - dist
 
 
 def install_contact_bonds(sim, normal_strength, shear_strength, *, gap=None, pairs=None) -> int:
@@ -74,7 +74,7 @@ def install_contact_bonds(sim, normal_strength, shear_strength, *, gap=None, pai
     extra = None if pairs is None else np.sort(np.asarray(pairs, np.int64).reshape(-1, 2), axis=1)
     sim.rebuild(extra_pairs=extra, skin=max(sim.skin, gap))
     c = sim.contacts
-    _, _, overlap = _pair_geometry(sim.particles.x, sim.particles.radius, c.i, c.j)
+    _, _, overlap = _pair_geometry(sim, c.i, c.j)
     new = (overlap >= -gap) & ~c.bonded
     if extra is not None:
         new &= np.isin(c.keys, pair_keys(extra[:, 0], extra[:, 1], len(sim.particles)))
@@ -151,12 +151,14 @@ def install_parallel_bonds(sim, *, kn, ks, tensile_strength, shear_strength, rad
     :func:`install_contact_bonds`.
     """
     p = sim.particles
+    if getattr(sim, "periodic", None) is not None:
+        raise ValueError("parallel bonds are not supported in a periodic cell (their update has no minimum image)")
     check_positive("radius_multiplier", radius_multiplier)
     gap = 1e-9 * float(np.mean(p.radius)) if gap is None else check_positive("gap", gap, allow_zero=True)
     if pairs is None:
         sim.rebuild(skin=max(sim.skin, gap))
         i, j = sim.contacts.i, sim.contacts.j
-        _, _, overlap = _pair_geometry(p.x, p.radius, i, j)
+        _, _, overlap = _pair_geometry(sim, i, j)
         keep = overlap >= -gap
         i, j = i[keep], j[keep]
     else:

@@ -27,6 +27,8 @@ __all__ = [
     "kinetic_energy",
     "love_weber_stress",
     "porosity",
+    "relax",
+    "unbalanced_force_ratio",
     "wall_stress",
 ]
 
@@ -57,7 +59,7 @@ def love_weber_stress(sim, volume: float, *, include_walls: bool = True, region=
     if c.force is not None and len(c):
         t = c.touching
         i, j = c.i[t], c.j[t]
-        branch = (p.x[j] - p.x[i]).T                               # (3, K), from A to B
+        branch = sim.branch(i, j).T                                # (3, K), from A to B (nearest images)
         point = p.x[i].T + (p.radius[i] - 0.5 * c.overlap[t]) * c.normal[:, t]
         parts.append((c.force[:, t], branch, point))
     w = sim.wall_contacts
@@ -140,3 +142,51 @@ def kinetic_energy(sim) -> float:
     if sim.clumps is not None:
         ke += sim.clumps.kinetic_energy()
     return float(ke)
+
+
+def unbalanced_force_ratio(sim) -> float:
+    """Mean unbalanced force over the mean contact force (PFC's "mechanical ratio"); → 0 in static equilibrium.
+
+    Sums gravity and the contact forces of the last step (particle–particle and particle–wall) onto the bodies:
+    free spheres, and clumps as a whole (their members are held by the rigid body, not by force balance).
+    Without any force-carrying contact the ratio is 0 if nothing is unbalanced either and ∞ otherwise (a falling
+    gas is not in equilibrium).
+    """
+    p, n = sim.particles, len(sim.particles)
+    total = p.mass[:, None] * sim.gravity
+    magnitudes = []
+    for c, wall in ((sim.contacts, False), (sim.wall_contacts, True)):
+        if not len(c) or c.force is None:
+            continue
+        for k in range(3):
+            total[:, k] += np.bincount(c.j, c.force[k], n)
+            if not wall:
+                total[:, k] -= np.bincount(c.i, c.force[k], n)
+        magnitudes.append(np.linalg.norm(c.force[:, c.touching], axis=0))
+    bodies = total[p.clump < 0]
+    if sim.clumps is not None:
+        cl = sim.clumps
+        per_clump = np.column_stack([np.bincount(cl.body, total[cl.members, k], len(cl)) for k in range(3)])
+        bodies = np.concatenate([bodies, per_clump])
+    unbalanced = float(np.mean(np.linalg.norm(bodies, axis=1))) if len(bodies) else 0.0
+    magnitudes = np.concatenate(magnitudes) if magnitudes else np.zeros(0)
+    mean_contact = float(magnitudes.mean()) if len(magnitudes) else 0.0
+    if mean_contact == 0.0:
+        return 0.0 if unbalanced == 0.0 else np.inf
+    return unbalanced / mean_contact
+
+
+def relax(sim, *, tolerance: float = 1e-2, stress_tolerance: float = 1e-2, min_steps: int = 200,
+          max_steps: int = 20_000, check_every: int = 200) -> dict:
+    """Cycle until static equilibrium: unbalanced force ratio below ``tolerance`` and every servo wall within
+    ``stress_tolerance`` (relative) of its target. Returns ``{"steps", "ratio", "converged"}``."""
+    steps, ratio = 0, np.inf
+    while steps < max_steps:
+        sim.run(check_every, progress=False)
+        steps += check_every
+        ratio = unbalanced_force_ratio(sim)
+        stress_ok = all(abs(sim.walls.normal_force(s.wall) / s.current_area(sim.walls) - s.target_stress)
+                        <= stress_tolerance * abs(s.target_stress) for s in sim.walls.servos)
+        if steps >= min_steps and ratio < tolerance and stress_ok:
+            return {"steps": steps, "ratio": ratio, "converged": True}
+    return {"steps": steps, "ratio": ratio, "converged": False}

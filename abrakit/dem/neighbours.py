@@ -17,17 +17,21 @@ from abrakit.dem.state import ContactSet, pair_keys
 __all__ = ["VerletList", "candidate_pairs", "transfer_history", "wall_candidates"]
 
 
-def candidate_pairs(x, radius, skin, clump=None):
+def candidate_pairs(x, radius, skin, clump=None, periodic=None):
     """Index pairs ``i < j`` whose surface gap is below ``skin`` [m]; pairs inside one clump are skipped.
 
-    Returned sorted by ``(i, j)``.
+    ``periodic`` (:class:`~abrakit.dem.periodic.Periodic`, positions inside its cell): the tree is toroidal
+    (``cKDTree(boxsize=L)``) and gaps are measured between nearest images. Returned sorted by ``(i, j)``.
     """
     if len(x) < 2:
         return np.zeros(0, np.int64), np.zeros(0, np.int64)
-    tree = cKDTree(x)
+    if periodic is None:
+        tree = cKDTree(x)
+    else:
+        tree = cKDTree(np.minimum(x - periodic.lower, np.nextafter(periodic.lengths, 0)), boxsize=periodic.lengths)
     pairs = tree.query_pairs(2.0 * float(radius.max()) + skin, output_type="ndarray")
     i, j = pairs[:, 0].astype(np.int64), pairs[:, 1].astype(np.int64)
-    d = x[j] - x[i]
+    d = x[j] - x[i] if periodic is None else periodic.minimum_image(x[j] - x[i])
     keep = np.einsum("ij,ij->i", d, d) < (radius[i] + radius[j] + skin) ** 2
     if clump is not None:
         keep &= (clump[i] < 0) | (clump[i] != clump[j])

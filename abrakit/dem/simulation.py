@@ -14,6 +14,7 @@ is rebuilt (contacts appear, Hertz contacts stiffen). A user-given ``dt`` above 
 
 from __future__ import annotations
 
+import copy
 import warnings
 from dataclasses import dataclass
 
@@ -104,12 +105,15 @@ class Simulation:
     planar : 2D mode, motion in the x–y plane only (use :meth:`Particles.disks`)
     track_energy : keep :attr:`energy` (costs a few percent)
     kernel : "numpy" (default) or "numba" (compiled particle–particle loop for the linear law, extra ``fast``)
+    periodic : :class:`~abrakit.dem.periodic.Periodic` cell, optional: minimum-image contacts across its faces,
+        positions wrapped at every Verlet rebuild, homogeneous normal strains by :meth:`strain_cell` (NumPy
+        kernel; no parallel bonds)
     """
 
     def __init__(self, particles: Particles, *, law=None, walls: Walls | None = None, gravity=(0.0, 0.0, 0.0),
                  dt: float | None = None, safety: float = 0.8, dt_policy: str = "raise",
                  local_damping: float = 0.0, skin: float | None = None, domain=None, escape: str = "raise",
-                 planar: bool = False, track_energy: bool = True, kernel: str = "numpy"):
+                 planar: bool = False, track_energy: bool = True, kernel: str = "numpy", periodic=None):
         if not isinstance(particles, Particles) or len(particles) == 0:
             raise ValueError("particles must be a non-empty Particles set (see Particles.spheres)")
         self.particles = particles
@@ -121,6 +125,9 @@ class Simulation:
                 raise ImportError("kernel='numba' needs numba: pip install abrakit[fast]")
             if type(self.law) is not Linear:
                 raise ValueError("kernel='numba' implements the Linear law only; use kernel='numpy'")
+        if periodic is not None and kernel != "numpy":
+            raise ValueError("a periodic cell needs kernel='numpy' (the numba kernel has no minimum image)")
+        self.periodic = periodic
         self.walls = Walls() if walls is None else walls
         self.gravity = np.asarray(check_finite("gravity", gravity), float).reshape(3)
         self.safety = check_range("safety", safety, 0.0, 1.0, low_open=True)
@@ -152,6 +159,8 @@ class Simulation:
         if self.planar:
             particles.x[:, 2] = particles.v[:, 2] = 0.0
             particles.w[:, :2] = 0.0
+        if periodic is not None:
+            periodic.check_range(2.0 * float(particles.radius.max()) + self.skin)
         self.refresh()
 
     @property
@@ -211,6 +220,8 @@ class Simulation:
             r, overlap, n = self._ball_ball_compiled(force, torque)
         else:
             d = gather(p.x, j) - gather(p.x, i)
+            if self.periodic is not None:
+                d = self.periodic.minimum_image(d, axis=0)
             dist = np.sqrt(dot(d, d))                                 # Eq. (4.2)
             n = d / dist                                              # Eq. (4.1)
             overlap = self._radius_sum - dist                         # Eq. (4.3)
@@ -371,7 +382,10 @@ class Simulation:
         self._check_domain()
         p = self.particles
         n = len(p)
-        i, j = candidate_pairs(p.x, p.radius, self.skin, p.clump if self.clumps is not None else None)
+        if self.periodic is not None:
+            self.periodic.wrap(p.x)
+        i, j = candidate_pairs(p.x, p.radius, self.skin, p.clump if self.clumps is not None else None,
+                               self.periodic)
         keys = pair_keys(i, j, n)
         old = self.contacts
         forced = [old.keys[old.bonded]] if len(old) else []
@@ -383,7 +397,7 @@ class Simulation:
             i, j = keys // n, keys % n
         new = transfer_history(old, ContactSet.empty_history(i, j, n))
         new.prm = self.law.pair_parameters(p, i, j)
-        d = p.x[j] - p.x[i]
+        d = self.branch(i, j)
         coincident = rowdot(d, d) <= (1e-12 * (p.radius[i] + p.radius[j])) ** 2
         if coincident.any():
             a = int(np.argmax(coincident))
@@ -438,7 +452,7 @@ class Simulation:
                 continue
             radius_sum = (p.radius[c.i] + p.radius[c.j]) if len(sides) == 2 else p.radius[c.j]
             if len(sides) == 2:
-                gap_overlap = radius_sum - np.linalg.norm(p.x[c.j] - p.x[c.i], axis=1)
+                gap_overlap = radius_sum - np.linalg.norm(self.branch(c.i, c.j), axis=1)
             else:
                 gap_overlap = p.radius[c.j] - rowdot(p.x[c.j] - self.walls.point[c.i], self.walls.normal[c.i])
             reference = 0.01 * (p.radius[c.j] if len(sides) == 1 else np.minimum(p.radius[c.i], p.radius[c.j]))
@@ -479,6 +493,28 @@ class Simulation:
         if not np.isfinite(self._dt):
             raise TimeStepError("no stiffness in the system: give dt explicitly")
         return dt_crit
+
+    # ------------------------------------------------------------------ periodic cell, snapshots
+    def branch(self, i, j) -> np.ndarray:
+        """Branch vectors x_j − x_i ``(K, 3)`` (nearest periodic images in a periodic cell)."""
+        d = self.particles.x[j] - self.particles.x[i]
+        return d if self.periodic is None else self.periodic.minimum_image(d)
+
+    def strain_cell(self, strain) -> None:
+        """Strain the periodic cell homogeneously by ``(ε_xx, ε_yy, ε_zz)``, the positions affinely with it."""
+        if self.periodic is None:
+            raise ValueError("strain_cell needs a periodic simulation (periodic=Periodic(...))")
+        self.periodic.strain(self.particles.x, strain)
+        self.periodic.check_range(2.0 * float(self.particles.radius.max()) + self.skin)
+        self.neighbours.x_ref = None                       # the images moved: rebuild at the next step
+
+    def snapshot(self) -> dict:
+        """A deep copy of the state (particles, contacts, bonds, walls, cell, clock) for :meth:`restore`."""
+        return copy.deepcopy({k: v for k, v in self.__dict__.items()})
+
+    def restore(self, snapshot: dict) -> None:
+        """Return to a :meth:`snapshot` (the snapshot stays usable)."""
+        self.__dict__.update(copy.deepcopy(snapshot))
 
     # ------------------------------------------------------------------ domain, running
     def _check_domain(self) -> None:

@@ -52,6 +52,7 @@ from scipy.spatial import cKDTree
 
 from abrakit.dem import Linear, Particles, Simulation, Walls
 from abrakit.dem.kernels import HAVE_NUMBA
+from abrakit.dem.measure import unbalanced_force_ratio
 from abrakit.validation import check_finite, check_option, check_positive, check_range, check_shape
 
 __all__ = [
@@ -186,28 +187,6 @@ def loose_column(radii, lower, upper, rng, *, oversample: int = 4, max_rounds: i
             raise ValueError(f"could not place {len(pending)} of {len(radii)} grains: the column is too full; "
                              "make it taller")
     return x
-
-
-def unbalanced_force_ratio(sim: Simulation) -> float:
-    """Mean unbalanced force over mean contact force (PFC's "mechanical ratio"); → 0 in static equilibrium.
-
-    Uses the forces of the last step: gravity plus particle–particle and particle–wall contact forces.
-    """
-    p, n = sim.particles, len(sim.particles)
-    net = p.mass[:, None] * sim.gravity
-    magnitudes = []
-    for c, wall in ((sim.contacts, False), (sim.wall_contacts, True)):
-        if not len(c) or c.force is None:
-            continue
-        for k in range(3):
-            net[:, k] += np.bincount(c.j, c.force[k], n)
-            if not wall:
-                net[:, k] -= np.bincount(c.i, c.force[k], n)
-        magnitudes.append(np.linalg.norm(c.force[:, c.touching], axis=0))
-    magnitudes = np.concatenate(magnitudes) if magnitudes else np.zeros(0)
-    if not len(magnitudes) or magnitudes.mean() == 0.0:
-        return np.inf
-    return float(np.linalg.norm(net, axis=1).mean() / magnitudes.mean())
 
 
 def _grain_counts(diameter, fine_diameter, theta_coarse, box, layers):

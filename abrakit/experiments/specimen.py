@@ -49,7 +49,7 @@ from abrakit.dem import (
     install_contact_bonds,
     porosity,
 )
-from abrakit.dem.measure import contact_counts
+from abrakit.dem.measure import contact_counts, relax, unbalanced_force_ratio
 from abrakit.validation import check_option, check_positive, check_range
 
 __all__ = [
@@ -206,54 +206,6 @@ def cache_dir() -> Path:
 
 
 # ---------------------------------------------------------------------------------------------- equilibrium
-def unbalanced_force_ratio(sim) -> float:
-    """Mean unbalanced force over the mean contact force (PFC's equilibrium measure; 0 in static equilibrium).
-
-    Sums the contact forces of the last step onto the bodies — free spheres, and clumps as a whole (their members
-    are held by the rigid body, not by force balance) — over particle–particle and particle–wall contacts (gravity
-    and parallel bonds are not used in the compression tests). Returns 0 when no contact carries force.
-    """
-    p = sim.particles
-    n = len(p)
-    total = np.zeros((n, 3))
-    magnitudes = []
-    c, w = sim.contacts, sim.wall_contacts
-    for k in range(3):
-        if len(c) and c.force is not None:
-            total[:, k] += np.bincount(c.j, c.force[k], n) - np.bincount(c.i, c.force[k], n)
-        if len(w) and w.force is not None:
-            total[:, k] += np.bincount(w.j, w.force[k], n)
-    for s in (c, w):
-        if len(s) and s.force is not None:
-            magnitudes.append(np.linalg.norm(s.force[:, s.touching], axis=0))
-    magnitudes = np.concatenate(magnitudes) if magnitudes else np.zeros(0)
-    mean_contact = float(magnitudes.mean()) if len(magnitudes) else 0.0
-    if mean_contact == 0.0:
-        return 0.0
-    bodies = total[p.clump < 0]
-    if sim.clumps is not None:
-        cl = sim.clumps
-        per_clump = np.column_stack([np.bincount(cl.body, total[cl.members, k], len(cl)) for k in range(3)])
-        bodies = np.concatenate([bodies, per_clump])
-    return float(np.mean(np.linalg.norm(bodies, axis=1)) / mean_contact)
-
-
-def relax(sim, *, tolerance: float = 1e-2, stress_tolerance: float = 1e-2, min_steps: int = 200,
-          max_steps: int = 20_000, check_every: int = 200) -> dict:
-    """Cycle until static equilibrium: unbalanced force ratio below ``tolerance`` and every servo wall within
-    ``stress_tolerance`` (relative) of its target. Returns ``{"steps", "ratio", "converged"}``."""
-    steps, ratio = 0, np.inf
-    while steps < max_steps:
-        sim.run(check_every, progress=False)
-        steps += check_every
-        ratio = unbalanced_force_ratio(sim)
-        stress_ok = all(abs(sim.walls.normal_force(s.wall) / s.current_area(sim.walls) - s.target_stress)
-                        <= stress_tolerance * abs(s.target_stress) for s in sim.walls.servos)
-        if steps >= min_steps and ratio < tolerance and stress_ok:
-            return {"steps": steps, "ratio": ratio, "converged": True}
-    return {"steps": steps, "ratio": ratio, "converged": False}
-
-
 def _area(axis: str):
     return lambda walls: walls.box_area(axis)
 

@@ -1,0 +1,92 @@
+"""The periodic DEM cell and the elastic probe (abrakit.dem.periodic)."""
+
+import numpy as np
+import pytest
+
+from abrakit.dem import (
+    Particles,
+    Periodic,
+    Simulation,
+    elastic_probe,
+    install_parallel_bonds,
+    love_weber_stress,
+)
+
+R, KN = 0.01, 1e6
+
+
+def two_spheres(centre_x: float, periodic: Periodic | None):
+    """Two spheres overlapping by 0.1 R along x, their midpoint at ``centre_x``."""
+    gap = 2 * R - 0.1 * R
+    x = np.array([[centre_x - gap / 2, 0.05, 0.05], [centre_x + gap / 2, 0.05, 0.05]])
+    sim = Simulation(Particles.spheres(x, R, kn=KN), periodic=periodic, dt=1e-6)
+    sim.step()
+    return sim
+
+
+def test_a_contact_across_the_boundary_acts_as_one_inside():
+    """The same pair in the middle of the cell and straddling its x faces: equal overlap, normal and force, and
+    the particle that left the cell is wrapped back in at the next rebuild."""
+    cell = (0.1, 0.1, 0.1)
+    inside, across = two_spheres(0.05, Periodic(cell)), two_spheres(0.0, Periodic(cell))
+    assert across.particles.x[0, 0] > 0.09                      # wrapped into [0, L)
+    for sim in (inside, across):
+        assert len(sim.contacts) == 1 and sim.contacts.touching.all()
+    np.testing.assert_allclose(across.contacts.overlap, inside.contacts.overlap, rtol=1e-12)
+    np.testing.assert_allclose(across.contacts.normal, inside.contacts.normal, atol=1e-12)
+    np.testing.assert_allclose(across.contacts.force, inside.contacts.force, rtol=1e-12, atol=1e-12)
+    np.testing.assert_allclose(across.particles.v, inside.particles.v, rtol=1e-12, atol=1e-15)
+    assert abs(inside.contacts.fn[0] - 0.5 * KN * 0.1 * R) < 1e-9 * KN * R      # kn in series: kn/2
+    without = two_spheres(0.0, None)                             # no cell: the same pair still touches
+    assert len(without.contacts) == 1
+
+
+def simple_cubic(n: int = 4, strain: float = -1e-3):
+    """n³ spheres on a simple cubic lattice of spacing 2R in a periodic cell, pre-compressed by ``strain``."""
+    g = (np.arange(n) + 0.5) * 2 * R
+    x = np.stack(np.meshgrid(g, g, g, indexing="ij"), -1).reshape(-1, 3)
+    sim = Simulation(Particles.spheres(x, R, kn=KN, friction=0.5), periodic=Periodic([2 * R * n] * 3),
+                     local_damping=0.7)
+    sim.strain_cell(strain)
+    sim.step()
+    return sim
+
+
+def test_affine_strain_of_a_simple_cubic_lattice_gives_its_analytic_stiffness():
+    """Simple cubic, contact stiffness k = kn/2 along the lattice axes: σ_xx = −k (2R − ℓ_x)/(ℓ_y ℓ_z), so
+    C11 = k ℓ_x/(ℓ_y ℓ_z) ≈ k/(2R) and C12 = f/(ℓ_x ℓ_z) (the lateral pre-stress, zero without one); the probe
+    reads both, E and ν from them, and leaves the packing as it found it."""
+    sim = simple_cubic()
+    ell = sim.periodic.lengths / 4
+    k = 0.5 * KN
+    f = k * (2 * R - ell[0])
+    sigma = love_weber_stress(sim, sim.periodic.volume)
+    np.testing.assert_allclose(np.diag(sigma), -f / (ell[1] * ell[2]), rtol=1e-9)
+    x_before = sim.particles.x.copy()
+    probe = elastic_probe(sim, strain=1e-6, max_steps=200)
+    np.testing.assert_allclose(probe.C11_axes, k * ell[0] / (ell[1] * ell[2]), rtol=1e-5)
+    np.testing.assert_allclose(probe.C12_axes, f / (ell[0] * ell[2]), rtol=1e-3)
+    assert probe.nu == pytest.approx(probe.C12 / (probe.C11 + probe.C12))
+    assert probe.E == pytest.approx((probe.C11 - probe.C12) * (probe.C11 + 2 * probe.C12) / (probe.C11 + probe.C12))
+    np.testing.assert_array_equal(sim.particles.x, x_before)
+
+
+def test_periodic_cell_refuses_what_it_cannot_do():
+    with pytest.raises(ValueError, match="3 entries"):
+        Periodic([1.0, 1.0])
+    with pytest.raises(ValueError, match="positive"):
+        Periodic([1.0, -1.0, 1.0])
+    x = np.array([[0.01, 0.01, 0.01], [0.03, 0.01, 0.01]])
+    with pytest.raises(ValueError, match="twice the largest interaction"):
+        Simulation(Particles.spheres(x, R), periodic=Periodic([0.04, 0.1, 0.1]))
+    with pytest.raises(ValueError, match="kernel='numpy'"):
+        Simulation(Particles.spheres(x, R), periodic=Periodic([0.1] * 3), kernel="numba")
+    sim = Simulation(Particles.spheres(x, R), periodic=Periodic([0.1] * 3))
+    with pytest.raises(ValueError, match="parallel bonds"):
+        install_parallel_bonds(sim, kn=1e9, ks=1e9, tensile_strength=1e6, shear_strength=1e6)
+    with pytest.raises(ValueError, match="above -1"):
+        sim.strain_cell([-1.0, 0.0, 0.0])
+    with pytest.raises(ValueError, match="periodic"):
+        elastic_probe(Simulation(Particles.spheres(x, R)))
+    with pytest.raises(ValueError, match="periodic"):
+        Simulation(Particles.spheres(x, R)).strain_cell(0.01)
