@@ -67,21 +67,26 @@ def contact_statistics(sim, margin: float = 1.5) -> dict:
     force, neither of its particles is a rattler (fewer than two force-carrying contacts) and its contact point lies
     in the window. Returns ``rho_c`` [1/m³], ``n_c``, ``volume`` [m³], the means ``kn``, ``kt`` [N/m] and ``radius``
     [m] (half the mean branch length r_A + r_B) over the counted contacts, and ``rho_c_vessel`` (all contacts over
-    the whole vessel) for comparison.
+    the whole vessel) for comparison. In a periodic cell every such contact counts, over the cell's volume.
     """
     check_positive("margin", margin, allow_zero=True)
     p, c = sim.particles, sim.contacts
-    lo, hi = _box_of(sim)
-    shift = 2.0 * margin * float(np.mean(p.radius))
-    window_lo, window_hi = lo + shift, hi - shift
-    if np.any(window_hi <= window_lo):
-        raise ValueError(f"a margin of {margin} diameters leaves no interior window in this specimen")
     t = c.touching
     held = force_carrying_contacts(sim) >= 2
     i, j = c.i[t], c.j[t]
-    point = p.x[i] + (p.radius[i] - 0.5 * c.overlap[t])[:, None] * c.normal[:, t].T
-    inside = np.all((point >= window_lo) & (point <= window_hi), axis=1) & held[i] & held[j]
-    volume = float(np.prod(window_hi - window_lo))
+    if getattr(sim, "periodic", None) is not None:          # no boundary: the whole cell is interior
+        lo, hi = sim.periodic.lower, sim.periodic.lower + sim.periodic.lengths
+        inside = held[i] & held[j]
+        volume = sim.periodic.volume
+    else:
+        lo, hi = _box_of(sim)
+        shift = 2.0 * margin * float(np.mean(p.radius))
+        window_lo, window_hi = lo + shift, hi - shift
+        if np.any(window_hi <= window_lo):
+            raise ValueError(f"a margin of {margin} diameters leaves no interior window in this specimen")
+        point = p.x[i] + (p.radius[i] - 0.5 * c.overlap[t])[:, None] * c.normal[:, t].T
+        inside = np.all((point >= window_lo) & (point <= window_hi), axis=1) & held[i] & held[j]
+        volume = float(np.prod(window_hi - window_lo))
     n_c = int(inside.sum())
     if n_c == 0:
         raise ValueError("no force-carrying contact in the interior window")

@@ -1,0 +1,113 @@
+"""The identification specimens in a periodic cell: genesis without walls and the elastic probe (Ch. 5.3–5.4).
+
+Walled specimens of a few hundred spheres are loose next to their walls (more than half of a 300-sphere vessel lies
+within a diameter of a wall), so the walls bias the E and ν they give. The same specimen made in a periodic cell
+has no boundary at all:
+
+1. the radii of :func:`~abrakit.experiments.specimen.grains` (same seed, same distribution), a cubic cell sized so
+   that they fill it at the target porosity;
+2. random placement at half size, radius expansion in ``expansion_steps`` steps with frictionless settling, as in
+   the walled genesis;
+3. isotropic consolidation to σ₀ by straining the *cell* (not walls): every ``check_every`` steps the cell strain
+   changes by ``gain`` × (p − σ₀)/K, bounded by ``max_rate`` mean radii per step (the walled servo's speed);
+4. the material's friction assigned, re-equilibrated, and :func:`~abrakit.dem.periodic.elastic_probe` run.
+
+Eq. (5.20) is evaluated with the contact density of the whole cell (every force-carrying contact between
+non-rattlers), which needs no interior window. Spheres only (a clump's members would be wrapped one by one).
+"""
+
+from __future__ import annotations
+
+import time
+
+import numpy as np
+
+from abrakit.dem import (
+    Particles,
+    Periodic,
+    Simulation,
+    coordination_number,
+    elastic_probe,
+    love_weber_stress,
+    relax,
+    unbalanced_force_ratio,
+)
+from abrakit.experiments.closed_form_checks import contact_statistics, elastic_predictions
+from abrakit.experiments.specimen import SpecimenSpec, grains, random_placement
+from abrakit.validation import check_positive
+
+__all__ = ["consolidate_cell", "periodic_elastic_case", "periodic_genesis"]
+
+
+def mean_pressure(sim) -> float:
+    """Mean compressive stress p = −tr σ/3 of the cell (Love–Weber) [Pa]."""
+    return -float(np.trace(love_weber_stress(sim, sim.periodic.volume))) / 3.0
+
+
+def consolidate_cell(sim, stress: float, *, modulus: float, gain: float = 0.5, max_rate: float = 1e-4,
+                     tolerance: float = 0.02, check_every: int = 100, max_steps: int = 40_000) -> dict:
+    """Strain the periodic cell isotropically until the mean pressure is within ``tolerance`` of ``stress`` [Pa]
+    and the unbalanced-force ratio below ``tolerance``; ``modulus`` [Pa] scales the strain increments."""
+    check_positive("stress", stress)
+    check_positive("modulus", modulus)
+    r_mean = float(np.mean(sim.particles.radius))
+    steps = 0
+    while steps < max_steps:
+        sim.run(check_every, progress=False)
+        steps += check_every
+        p = mean_pressure(sim)
+        ratio = unbalanced_force_ratio(sim)
+        if abs(p / stress - 1.0) < tolerance and ratio < tolerance:
+            return {"steps": steps, "pressure": p, "ratio": ratio, "converged": True}
+        limit = max_rate * r_mean * check_every / float(np.min(sim.periodic.lengths))
+        sim.strain_cell(float(np.clip(gain * (p - stress) / modulus, -limit, limit)))
+    return {"steps": steps, "pressure": mean_pressure(sim), "ratio": unbalanced_force_ratio(sim),
+            "converged": False}
+
+
+def periodic_genesis(spec: SpecimenSpec, *, max_steps: int = 40_000) -> Simulation:
+    """A frictionless specimen of ``spec`` consolidated to σ₀ in a periodic cube (module doc, steps 1–3)."""
+    if spec.shapes[0] != 1.0:
+        raise ValueError("periodic_genesis makes sphere specimens only (shapes=(1, 0, 0))")
+    rng = np.random.default_rng(spec.seed)
+    radius, _ = grains(rng, spec)
+    solid = float(np.sum(4.0 / 3.0 * np.pi * radius**3))
+    side = (solid / (1.0 - spec.porosity)) ** (1.0 / 3.0)
+    x = random_placement(rng, 0.5 * radius, np.full(3, side))
+    kn = 4.0 * radius * spec.youngs_modulus
+    p = Particles.spheres(x, 0.5 * radius, spec.density, kn=kn, kt=kn / spec.stiffness_ratio, friction=0.0)
+    sim = Simulation(p, periodic=Periodic([side] * 3), local_damping=0.7, track_energy=False)
+    factor = 2.0 ** (1.0 / spec.expansion_steps)
+    for _ in range(spec.expansion_steps):
+        sim.scale_radii(factor)
+        relax(sim, min_steps=1000, max_steps=max_steps // 4)
+    consolidate_cell(sim, spec.stress, modulus=spec.youngs_modulus / 3.0, max_steps=max_steps)
+    return sim
+
+
+def periodic_elastic_case(params: dict) -> dict:
+    """One specimen in a periodic cell: E, ν by the elastic probe and Eq. (5.20) from the cell's contacts.
+
+    ``params``: :class:`SpecimenSpec` fields (``n_particles``, ``seed``, …), ``strain`` (probe, default 1e-6),
+    ``tolerance`` (relaxation, default 1e-6). Returns JSON-able numbers.
+    """
+    start = time.perf_counter()
+    spec = SpecimenSpec(**{k: v for k, v in params.items() if k in SpecimenSpec.__dataclass_fields__})
+    sim = periodic_genesis(spec)
+    material = spec.material()
+    sim.particles.friction[:] = material.friction
+    sim.refresh()
+    tolerance = params.get("tolerance", 1e-6)
+    relax(sim, tolerance=tolerance, min_steps=0, max_steps=40_000, check_every=100)
+    probe = elastic_probe(sim, strain=params.get("strain", 1e-6), tol=tolerance)
+    contacts = contact_statistics(sim)
+    predictions = elastic_predictions(contacts)
+    out = {"n_particles": spec.n_particles, "seed": spec.seed, "E": probe.E, "nu": probe.nu, "C11": probe.C11,
+           "C12": probe.C12, "C11_spread": float(np.ptp(probe.C11_axes) / probe.C11),
+           "pressure": mean_pressure(sim), "porosity": 1.0 - float(np.sum(4 / 3 * np.pi * sim.particles.radius**3))
+           / sim.periodic.volume, "coordination": coordination_number(sim), **contacts}
+    for variant, pred in predictions.items():
+        out[f"E_pred_{variant}"], out[f"nu_pred_{variant}"] = pred["E"], pred["nu"]
+        out[f"ratio_E_{variant}"], out[f"ratio_nu_{variant}"] = probe.E / pred["E"], probe.nu / pred["nu"]
+    out["seconds"] = time.perf_counter() - start
+    return out
