@@ -2,34 +2,89 @@
 
 ``Simulation(kernel="numba")`` replaces the vectorised contact step of :meth:`Simulation._ball_ball` by
 :func:`linear_contacts`: the same equations, Eq. (4.1)–(4.10) with contact bonds, written as one loop over the
-contacts that also sums the forces onto the particles (so no temporary (3, M) arrays are made). Results equal the
-NumPy path to round-off (the summation order differs); ``tests/test_dem_kernels.py`` checks it. Everything else
-(walls, bonds, clumps, Hertz–Mindlin) stays on the NumPy path.
+contacts that also sums the forces onto the particles (so no temporary (3, M) arrays are made), and
+:func:`linear_wall_contacts` the particle–wall step; both call one inlined law, :func:`_linear_law`. Results equal
+the NumPy path to round-off (the summation order differs); ``tests/test_dem_kernels.py`` checks it. Parallel bonds,
+clumps and Hertz–Mindlin stay on the NumPy path.
 """
 
 from __future__ import annotations
 
 import math
 
+import numpy as np
+
 from ..compiled import HAVE_NUMBA, njit
 
-__all__ = ["HAVE_NUMBA", "linear_contacts"]
+__all__ = ["HAVE_NUMBA", "linear_contacts", "linear_wall_contacts"]
+
+
+@njit(cache=True, inline="always")
+def _linear_law(U, n0, n1, n2, r0, r1, r2, f0, f1, f2, kn, kt, mu, beta_n, beta_t, dt, bonded, bond_gap,
+                bond_normal, bond_shear):
+    """The linear law with contact bonds at one contact, Eq. (4.6)–(4.10): overlap ``U``, normal n (A → B),
+    relative velocity r of B's contact point, old tangential spring force f. Returns the normal spring force,
+    the new spring force (3), the total force on B (3), the dashpot force (3), the trial shear magnitude and the
+    flags touching, sliding, tension failure, shear failure."""
+    vn = r0 * n0 + r1 * n1 + r2 * n2
+    t0, t1, t2 = r0 - vn * n0, r1 - vn * n1, r2 - vn * n2
+    # normal spring, Eq. (4.6); a contact bond carries tension
+    touching = U > 0.0
+    fn = kn * U if touching else 0.0
+    if bonded:
+        fn = kn * (U + bond_gap)
+        touching = True
+    # tangential spring turned into the contact plane, then ΔF^t = −K^t V^t Δt, Eq. (4.7)
+    before = math.sqrt(f0 * f0 + f1 * f1 + f2 * f2)
+    fdn = f0 * n0 + f1 * n1 + f2 * n2
+    f0, f1, f2 = f0 - fdn * n0, f1 - fdn * n1, f2 - fdn * n2
+    after = math.sqrt(f0 * f0 + f1 * f1 + f2 * f2)
+    scale = before / after if after > 0.0 else 0.0
+    f0, f1, f2 = f0 * scale - kt * dt * t0, f1 * scale - kt * dt * t1, f2 * scale - kt * dt * t2
+    if not touching:
+        f0 = f1 = f2 = 0.0
+    # Coulomb slip, Eq. (4.8), or contact-bond failure
+    limit = mu * fn
+    magnitude = math.sqrt(f0 * f0 + f1 * f1 + f2 * f2)
+    sliding = magnitude > limit and not bonded
+    tension = bonded and -fn >= bond_normal
+    shear = bonded and not tension and magnitude >= bond_shear
+    if sliding:
+        f0, f1, f2 = f0 * (limit / magnitude), f1 * (limit / magnitude), f2 * (limit / magnitude)
+    if tension or shear:
+        f0 = f1 = f2 = 0.0
+        fn = kn * U if U > 0.0 else 0.0
+    # dashpots, Eq. (4.9)/(4.10)
+    dn = -beta_n * vn if touching else 0.0
+    dt_on = touching and not sliding
+    g0 = -beta_t * t0 if dt_on else 0.0
+    g1 = -beta_t * t1 if dt_on else 0.0
+    g2 = -beta_t * t2 if dt_on else 0.0
+    D0, D1, D2 = dn * n0 + g0, dn * n1 + g1, dn * n2 + g2
+    F0, F1, F2 = fn * n0 + f0 + D0, fn * n1 + f1 + D1, fn * n2 + f2 + D2
+    return fn, f0, f1, f2, F0, F1, F2, D0, D1, D2, magnitude, touching, sliding, tension, shear
 
 
 @njit(cache=True, error_model="numpy")
 def linear_contacts(x, v, w, radius_sum, radius_i, radius_j, i, j, kn, kt, mu, beta_n, beta_t, ft, bonded,
                     bond_gap, bond_normal, bond_shear, dt, force, torque, out_overlap, out_normal, out_fn,
-                    out_force, out_dashpot, out_trial, out_flags):
+                    out_force, out_dashpot, out_trial, out_flags, box):
     """Linear contact law on every contact, summed onto ``force``/``torque`` (both (N, 3), updated in place).
 
     ``ft`` (3, M) is updated in place (the new tangential spring force). Per contact outputs: overlap, normal
     (3, M), spring normal force, total force on B (3, M), dashpot force (3, M), trial shear force magnitude
     before the Coulomb cap, and ``out_flags`` (4, M): touching, sliding, tension failure, shear failure.
+    ``box`` (3,): the periodic cell's lengths (branch vectors to the nearest image), zeros without a cell.
     """
+    periodic = box[0] > 0.0
     for c in range(i.shape[0]):
         a, b = i[c], j[c]
         # geometry, Eq. (4.1)–(4.4)
         d0, d1, d2 = x[b, 0] - x[a, 0], x[b, 1] - x[a, 1], x[b, 2] - x[a, 2]
+        if periodic:
+            d0 -= box[0] * np.round(d0 / box[0])
+            d1 -= box[1] * np.round(d1 / box[1])
+            d2 -= box[2] * np.round(d2 / box[2])
         dist = math.sqrt(d0 * d0 + d1 * d1 + d2 * d2)
         n0, n1, n2 = d0 / dist, d1 / dist, d2 / dist
         U = radius_sum[c] - dist
@@ -41,45 +96,10 @@ def linear_contacts(x, v, w, radius_sum, radius_i, radius_j, i, j, kn, kt, mu, b
         r0 = v[b, 0] - v[a, 0] - (s1 * n2 - s2 * n1)
         r1 = v[b, 1] - v[a, 1] - (s2 * n0 - s0 * n2)
         r2 = v[b, 2] - v[a, 2] - (s0 * n1 - s1 * n0)
-        vn = r0 * n0 + r1 * n1 + r2 * n2
-        t0, t1, t2 = r0 - vn * n0, r1 - vn * n1, r2 - vn * n2
-        # normal spring, Eq. (4.6); a contact bond carries tension
-        touching = U > 0.0
-        fn = kn[c] * U if touching else 0.0
-        if bonded[c]:
-            fn = kn[c] * (U + bond_gap[c])
-            touching = True
-        # tangential spring turned into the contact plane, then ΔF^t = −K^t V^t Δt, Eq. (4.7)
-        f0, f1, f2 = ft[0, c], ft[1, c], ft[2, c]
-        before = math.sqrt(f0 * f0 + f1 * f1 + f2 * f2)
-        fdn = f0 * n0 + f1 * n1 + f2 * n2
-        f0, f1, f2 = f0 - fdn * n0, f1 - fdn * n1, f2 - fdn * n2
-        after = math.sqrt(f0 * f0 + f1 * f1 + f2 * f2)
-        scale = before / after if after > 0.0 else 0.0
-        f0, f1, f2 = f0 * scale - kt[c] * dt * t0, f1 * scale - kt[c] * dt * t1, f2 * scale - kt[c] * dt * t2
-        if not touching:
-            f0 = f1 = f2 = 0.0
-        # Coulomb slip, Eq. (4.8), or contact-bond failure
-        limit = mu[c] * fn
-        magnitude = math.sqrt(f0 * f0 + f1 * f1 + f2 * f2)
-        sliding = magnitude > limit and not bonded[c]
-        tension = bonded[c] and -fn >= bond_normal[c]
-        shear = bonded[c] and not tension and magnitude >= bond_shear[c]
-        if sliding:
-            f0, f1, f2 = f0 * (limit / magnitude), f1 * (limit / magnitude), f2 * (limit / magnitude)
-        if tension or shear:
-            f0 = f1 = f2 = 0.0
-            fn = kn[c] * U if U > 0.0 else 0.0
+        fn, f0, f1, f2, F0, F1, F2, D0, D1, D2, magnitude, touching, sliding, tension, shear = _linear_law(
+            U, n0, n1, n2, r0, r1, r2, ft[0, c], ft[1, c], ft[2, c], kn[c], kt[c], mu[c], beta_n[c], beta_t[c], dt,
+            bonded[c], bond_gap[c], bond_normal[c], bond_shear[c])
         ft[0, c], ft[1, c], ft[2, c] = f0, f1, f2
-        # dashpots, Eq. (4.9)/(4.10)
-        dn = -beta_n[c] * vn if touching else 0.0
-        dt_on = touching and not sliding
-        g0 = -beta_t[c] * t0 if dt_on else 0.0
-        g1 = -beta_t[c] * t1 if dt_on else 0.0
-        g2 = -beta_t[c] * t2 if dt_on else 0.0
-        F0 = fn * n0 + f0 + dn * n0 + g0
-        F1 = fn * n1 + f1 + dn * n1 + g1
-        F2 = fn * n2 + f2 + dn * n2 + g2
         # Newton's third law: B gets +F, A gets −F; both get the moment −r' n × F
         force[b, 0] += F0
         force[b, 1] += F1
@@ -99,7 +119,43 @@ def linear_contacts(x, v, w, radius_sum, radius_i, radius_j, i, j, kn, kt, mu, b
         out_fn[c] = fn
         out_trial[c] = magnitude
         out_force[0, c], out_force[1, c], out_force[2, c] = F0, F1, F2
-        out_dashpot[0, c] = dn * n0 + g0
-        out_dashpot[1, c] = dn * n1 + g1
-        out_dashpot[2, c] = dn * n2 + g2
+        out_dashpot[0, c], out_dashpot[1, c], out_dashpot[2, c] = D0, D1, D2
         out_flags[0, c], out_flags[1, c], out_flags[2, c], out_flags[3, c] = touching, sliding, tension, shear
+
+
+@njit(cache=True, error_model="numpy")
+def linear_wall_contacts(x, v, w, radius, k, j, normal, point, velocity, kn, kt, mu, beta_n, beta_t, ft, dt,
+                         force, torque, wall_force, out_overlap, out_fn, out_force, out_dashpot, out_trial,
+                         out_flags):
+    """The linear law on particle–wall contacts (wall ``k`` is body A, its normal the contact normal), summed
+    onto ``force``/``torque`` of the particles and ``wall_force`` (W, 3) of the walls; outputs as
+    :func:`linear_contacts` (flags: touching, sliding)."""
+    for c in range(k.shape[0]):
+        a, b = k[c], j[c]
+        n0, n1, n2 = normal[a, 0], normal[a, 1], normal[a, 2]
+        U = radius[c] - ((x[b, 0] - point[a, 0]) * n0 + (x[b, 1] - point[a, 1]) * n1 + (x[b, 2] - point[a, 2]) * n2)
+        arm = radius[c] - 0.5 * U
+        s0, s1, s2 = arm * w[b, 0], arm * w[b, 1], arm * w[b, 2]
+        r0 = v[b, 0] - velocity[a, 0] - (s1 * n2 - s2 * n1)
+        r1 = v[b, 1] - velocity[a, 1] - (s2 * n0 - s0 * n2)
+        r2 = v[b, 2] - velocity[a, 2] - (s0 * n1 - s1 * n0)
+        fn, f0, f1, f2, F0, F1, F2, D0, D1, D2, magnitude, touching, sliding, _, _ = _linear_law(
+            U, n0, n1, n2, r0, r1, r2, ft[0, c], ft[1, c], ft[2, c], kn[c], kt[c], mu[c], beta_n[c], beta_t[c], dt,
+            False, 0.0, 0.0, 0.0)
+        ft[0, c], ft[1, c], ft[2, c] = f0, f1, f2
+        force[b, 0] += F0
+        force[b, 1] += F1
+        force[b, 2] += F2
+        wall_force[a, 0] -= F0
+        wall_force[a, 1] -= F1
+        wall_force[a, 2] -= F2
+        l0, l1, l2 = n1 * F2 - n2 * F1, n2 * F0 - n0 * F2, n0 * F1 - n1 * F0
+        torque[b, 0] -= arm * l0
+        torque[b, 1] -= arm * l1
+        torque[b, 2] -= arm * l2
+        out_overlap[c] = U
+        out_fn[c] = fn
+        out_trial[c] = magnitude
+        out_force[0, c], out_force[1, c], out_force[2, c] = F0, F1, F2
+        out_dashpot[0, c], out_dashpot[1, c], out_dashpot[2, c] = D0, D1, D2
+        out_flags[0, c], out_flags[1, c] = touching, sliding

@@ -106,8 +106,8 @@ class Simulation:
     track_energy : keep :attr:`energy` (costs a few percent)
     kernel : "numpy" (default) or "numba" (compiled particle–particle loop for the linear law, extra ``fast``)
     periodic : :class:`~abrakit.dem.periodic.Periodic` cell, optional: minimum-image contacts across its faces,
-        positions wrapped at every Verlet rebuild, homogeneous normal strains by :meth:`strain_cell` (NumPy
-        kernel; no parallel bonds)
+        positions wrapped at every Verlet rebuild, homogeneous normal strains by :meth:`strain_cell` (no
+        parallel bonds, no clumps)
     """
 
     def __init__(self, particles: Particles, *, law=None, walls: Walls | None = None, gravity=(0.0, 0.0, 0.0),
@@ -125,8 +125,6 @@ class Simulation:
                 raise ImportError("kernel='numba' needs numba: pip install abrakit[fast]")
             if type(self.law) is not Linear:
                 raise ValueError("kernel='numba' implements the Linear law only; use kernel='numpy'")
-        if periodic is not None and kernel != "numpy":
-            raise ValueError("a periodic cell needs kernel='numpy' (the numba kernel has no minimum image)")
         self.periodic = periodic
         self.walls = Walls() if walls is None else walls
         self.gravity = np.asarray(check_finite("gravity", gravity), float).reshape(3)
@@ -262,16 +260,23 @@ class Simulation:
         linear_contacts(p.x, p.v, p.w, self._radius_sum, self._radius_i, self._radius_j, c.i, c.j, prm["kn"],
                         prm["kt"], prm["mu"], prm["beta_n"], prm["beta_t"], ft, c.bonded, c.bond_gap,
                         c.bond_normal_strength, c.bond_shear_strength, self.dt, force, torque, overlap, n, fn,
-                        total, dashpot, trial, flags)
+                        total, dashpot, trial, flags,
+                        np.zeros(3) if self.periodic is None else self.periodic.lengths)
+        r = self._compiled_forces(prm, total, fn, ft, flags, trial, dashpot)
+        return r, overlap, n
+
+    def _compiled_forces(self, prm, total, fn, ft, flags, trial, dashpot) -> ContactForces:
+        """The kernels' outputs as the :class:`ContactForces` of the NumPy path (slip work as μF^n · slip)."""
+        m = len(fn)
         slip = 0.0
-        if self.track_energy and flags[1].any():                  # as in force_displacement: μF^n · slip
+        if self.track_energy and flags[1].any():
             limit = prm["mu"] * fn
             length = np.divide(trial - limit, prm["kt"], out=np.zeros(m), where=flags[1] & (prm["kt"] > 0))
             slip = float(np.sum(limit * length))
         damped = self.law.damping_normal or self.law.damping_shear
-        r = ContactForces(total, fn, ft, flags[0], flags[1], flags[2], flags[3], slip,
-                          dashpot if damped else None, prm["kn"], prm["kt"])
-        return r, overlap, n
+        tension, shear = (flags[2], flags[3]) if len(flags) == 4 else (np.zeros(m, bool),) * 2
+        return ContactForces(total, fn, ft, flags[0], flags[1], tension, shear, slip, dashpot if damped else None,
+                             prm["kn"], prm["kt"])
 
     def _ball_wall(self, force, torque) -> float:
         """Particle–wall contacts: the wall is body A, its normal the contact normal."""
@@ -282,14 +287,18 @@ class Simulation:
             return self._no_contacts(c)
         k, j = c.i, c.j
         n = gather(walls.normal, k)
-        overlap = self._radius_wall - dot(gather(p.x, j) - gather(walls.point, k), n)
+        if self.kernel == "numba":
+            r, overlap = self._ball_wall_compiled(force, torque)
+        else:
+            overlap = self._radius_wall - dot(gather(p.x, j) - gather(walls.point, k), n)
+            arm = self._radius_wall - 0.5 * overlap
+            v_rel = gather(p.v, j) - gather(walls.velocity, k) - cross(arm * gather(p.w, j), n)
+            r = force_displacement(self.law, c.prm, overlap, n, v_rel, c.ft, self.dt, energy=self.track_energy)
+            _scatter(force, j, r.force)
+            _scatter(torque, j, arm * cross(n, r.force), -1.0)
+            _scatter(walls.force, k, r.force, -1.0)
         arm = self._radius_wall - 0.5 * overlap
-        v_rel = gather(p.v, j) - gather(walls.velocity, k) - cross(arm * gather(p.w, j), n)
-        r = force_displacement(self.law, c.prm, overlap, n, v_rel, c.ft, self.dt, energy=self.track_energy)
         c.ft, c.overlap, c.normal, c.fn, c.force = r.ft, overlap, n, r.fn, r.force
-        _scatter(force, j, r.force)
-        _scatter(torque, j, arm * cross(n, r.force), -1.0)
-        _scatter(walls.force, k, r.force, -1.0)
         self._wall_stiffness = np.bincount(k, r.kn * r.touching, len(walls))
         if not self.track_energy:
             return 0.0
@@ -300,6 +309,23 @@ class Simulation:
             _scatter(self._dashpot[1], j, arm * cross(n, f), -1.0)
             self._dashpot_wall += float(np.sum(f * gather(walls.velocity, k)))
         return self._elastic_energy(c, overlap, r)
+
+    def _ball_wall_compiled(self, force, torque):
+        """The particle–wall step through the numba kernel."""
+        from abrakit.dem.kernels import linear_wall_contacts
+
+        p, c, walls, prm = self.particles, self.wall_contacts, self.walls, self.wall_contacts.prm
+        m = len(c)
+        overlap, fn, trial = np.empty(m), np.empty(m), np.empty(m)
+        total, dashpot = np.empty((3, m)), np.empty((3, m))
+        flags = np.empty((2, m), np.bool_)
+        ft = c.ft.copy()
+        kn, kt, mu, beta_n, beta_t = (np.ascontiguousarray(np.broadcast_to(prm[q], (m,)), dtype=float)
+                                      for q in ("kn", "kt", "mu", "beta_n", "beta_t"))
+        linear_wall_contacts(p.x, p.v, p.w, self._radius_wall, c.i, c.j, walls.normal, walls.point, walls.velocity,
+                             kn, kt, mu, beta_n, beta_t, ft, self.dt, force, torque, walls.force, overlap, fn, total,
+                             dashpot, trial, flags)
+        return self._compiled_forces(prm, total, fn, ft, flags, trial, dashpot), overlap
 
     @staticmethod
     def _no_contacts(c) -> float:
