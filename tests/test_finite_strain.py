@@ -140,7 +140,7 @@ def test_small_strain_limit_is_the_small_strain_model():
 
 def test_bad_input_is_refused():
     with pytest.raises(ValueError, match="integration"):
-        LogStrainPlasticity(VonMisesPlasticity(E, NU, R_P, K_H))
+        LogStrainPlasticity(VonMisesPlasticity(E, NU, R_P, K_H, integration="explicit"))
     with pytest.raises(TypeError, match="base"):
         LogStrainPlasticity("steel")
     with pytest.raises(ValueError, match="F"):

@@ -167,7 +167,7 @@ class Kinematics:
     def displacement_gradient(self, u: np.ndarray) -> np.ndarray:
         """grad u at every quadrature point, ``(nel, nqp, dim, dim)`` with ``[..., i, k] = du_i/dx_k``."""
         u_e = np.asarray(u)[self.element_dofs].reshape(self.nel, -1, self.dim)  # (e, a, i)
-        return np.einsum("eqak,eai->eqik", self.grad_N, u_e, optimize=True)
+        return np.matmul(np.swapaxes(u_e, -1, -2)[:, None], self.grad_N)      # Σ_a u_ai ∂N_a/∂x_k: (e, q, i, k)
 
     def project(self, values: np.ndarray) -> np.ndarray:
         """L2 projection of a quadrature-point field ``(nel, nqp)`` onto the mesh vertices (linear elements).
@@ -232,7 +232,7 @@ class Kinematics:
         for comp, i, k, weight in self.table:  # B^T sigma = sum_k dN_a/dx_k T_ik
             T[..., i, k] += weight * stress[..., comp]
         T *= self.dx[..., None, None]
-        f = np.einsum("eqak,eqik->eai", self.grad_N, T, optimize=True)
+        f = np.matmul(self.grad_N, np.swapaxes(T, -1, -2)).sum(axis=1)           # Σ_q,k ∂N_a/∂x_k T_ik: (e, a, i)
         if self.bbar:
             p_dx = stress[..., :3].sum(axis=-1) * self.dx / 3.0  # tr(sigma)/3 dV
             f += (np.einsum("eak,e->eak", self.mean_grad_N, p_dx.sum(axis=1))
@@ -286,7 +286,7 @@ class TotalLagrangianKinematics(Kinematics):
     def element_forces(self, stress: np.ndarray) -> np.ndarray:
         """∫_e Gᵀ P dV_0 for every element, ``(nel, nbf)``, from P as 9-vectors ``(nel, nqp, 9)``."""
         P = stress.reshape(*stress.shape[:2], 3, 3)[..., : self.dim, : self.dim] * self.dx[..., None, None]
-        return np.einsum("eqaJ,eqiJ->eai", self.grad_N, P, optimize=True).reshape(self.nel, -1)
+        return np.matmul(self.grad_N, np.swapaxes(P, -1, -2)).sum(axis=1).reshape(self.nel, -1)
 
 
 class FBarState(NamedTuple):
@@ -353,7 +353,7 @@ class FBarKinematics(TotalLagrangianKinematics):
     def _transpose_gradient(self, A: np.ndarray) -> np.ndarray:
         """Gᵀ vec A from 3 × 3 tensors ``(nel, nqp, 3, 3)``: (Gᵀ vec A)_ai = Σ_J A_iJ ∂N_a/∂X_J, ``(nel, nqp, nbf)``
         (without forming G: 3 × 8 × 3 products per point instead of 9 × 24)."""
-        return np.einsum("eqaJ,eqiJ->eqai", self.grad_N, A, optimize=True).reshape(self.nel, self.nqp, self.nbf)
+        return np.matmul(self.grad_N, np.swapaxes(A, -1, -2)).reshape(self.nel, self.nqp, self.nbf)
 
     def _b_bar(self, st: FBarState) -> np.ndarray:
         """B̄ = α [G + ⅓ f ⊗ h], δF̄ = B̄ δu, ``(nel, nqp, 9, nbf)`` (formed for the tangent only)."""
