@@ -7,19 +7,21 @@ interrupted benchmark resumes, and runs can be computed ahead in another process
 1. **small vs finite strain** on the seed's scene (sphere R = 50 µm, d = 2 µm, μ = 0.1) slid 200 µm along a
    300 µm block, "demo" mesh: runtime, forces, A_g, A_s, f_ab, the budget at the end, and how F_N and the groove
    section evolve along the slide (plateau onset, steady rates of every budget term per µm of slide);
-2. **what the rise of F_N comes from**: the same scene with traction-free ends instead of the seed's fixed ones,
+2. **the default mesh** (the seed's block, 100 µm slide): small strain with full integration (the seed's formulation)
+   against finite strain with F-bar (the scene's default);
+3. **what the rise of F_N comes from**: the same scene with traction-free ends instead of the seed's fixed ones,
    with B-bar hexahedra (no volumetric locking), with perfect plasticity (H = 0, no hardening), and at finite strain
    with F-bar hexahedra (finite strain without locking);
-3. **depth sweeps** at finite strain, with full integration (d/R = 0.02, 0.04) and with F-bar (d/R = 0.02, 0.04,
+4. **depth sweeps** at finite strain, with full integration (d/R = 0.02, 0.04) and with F-bar (d/R = 0.02, 0.04,
    0.08, 0.1; the grains below are two of its points): apparent friction F_T/F_N against the ploughing model of
    Bowden & Tabor / Goddard & Wilman for a sphere, μ_app = μ + (2/π) [(R/a)² asin(a/R) − √((R/a)² − 1)], a the
    contact radius (here √(2Rd − d²), the geometric footprint of a tip that ploughs without pile-up);
-4. **grains** of Sec. 8.4 at the seed's f_N = 2 N (finite strain, F-bar, D = 100 and 200 µm; and with full
+5. **grains** of Sec. 8.4 at the seed's f_N = 2 N (finite strain, F-bar, D = 100 and 200 µm; and with full
    integration for comparison): A_g and f_ab from the steady rates and from the mid-length section after
    unloading, and Table 8.4 recomputed from them beside the printed table and the seed's own inputs, with the
    removal study (f_ab if material above a plastic strain ε_c were removed).
 
-``quick=True`` runs parts 1 and 2 on 100 µm slides of a 200 µm block (the seed's block) and skips 3 and 4.
+``quick=True`` runs parts 1 and 3 on 100 µm slides of a 200 µm block (the seed's block) and skips 2, 4 and 5.
 Writes ``scratch_steady.json``, ``scratch_steady.csv`` and ``scratch_steady.png``.
 
     python benchmarks/bench_scratch_steady.py [--quick] [--only NAME] [--partial] [--stored-only] [--outdir DIR]
@@ -184,7 +186,10 @@ def planned(quick: bool) -> dict[str, ScratchScene]:
     full, fbar = base.with_(kinematics="finite"), base.with_(kinematics="finite", bbar=True)
     plan["finite_d1um"] = full.with_(depth=0.001)                    # d/R = 0.02, full integration
     plan.update({name: fbar.with_(indenter=SphericalIndenter(R), depth=d) for name, (R, d) in GRAINS.items()})
-    plan["fbar_d5um"] = fbar.with_(depth=0.005)                      # d/R = 0.1
+    plan["fbar_d5um"] = fbar.with_(depth=0.005, **SEED_BLOCK)        # d/R = 0.1, the seed's 100 um slide (time)
+    seed_scene = ScratchScene(mesh="default", **SEED_FORMULATION, **SEED_BLOCK)   # the seed's scene and mesh
+    plan["default_small"] = seed_scene
+    plan["default_fbar"] = seed_scene.with_(kinematics="finite", bbar=True)
     plan["grain_200um_fullint"] = full.with_(indenter=SphericalIndenter(0.1), depth=0.001)
     return plan
 
