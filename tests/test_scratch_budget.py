@@ -11,7 +11,15 @@ import pytest
 
 from abrakit.fem import Kinematics
 from abrakit.scratch.budget import BoundaryFaces, volume_budget
-from abrakit.scratch.scene import SEED_FORMULATION, ST52, ScratchScene, SpecimenMesh, build_specimen, run_scratch
+from abrakit.scratch.scene import (
+    SEED_FORMULATION,
+    ST52,
+    ScratchScene,
+    SpecimenMesh,
+    build_specimen,
+    groove_along,
+    run_scratch,
+)
 
 TINY_BLOCK = (0.06, 0.015, 0.08)
 TINY_MESH = SpecimenMesh(h=0.003, h_z=0.004, h_y=0.001, growth=1.6, width=1.6)
@@ -89,3 +97,19 @@ def test_small_strain_kinematics_lose_volume_beyond_the_elastic_change(scratches
     kinematic_loss = r.budget.volume_change - elastic
     assert kinematic_loss < -0.05 * r.budget.groove
     assert abs(r.budget.volume_change) > abs(scratches["finite"].budget.volume_change)
+
+
+@pytest.mark.slow
+def test_plastic_only_finite_strain_scratch_is_plowing_at_steady_state():
+    """The plowing limit (about 30 min on one core): sphere R = 50 µm, d = 2 µm, μ = 0.1, 200 µm along a 300 µm
+    block, finite strain with F-bar, no damage. The budget closes to round-off; the sections of the steady half of
+    the wake have f_ab < 0.2 (plowing), and what is missing from the shoulders is bounded by the elastic volume
+    change and the prow: groove − shoulders − sink ≤ prow + |∫(J−1) dV| + faces."""
+    scene = ScratchScene(mesh="demo", kinematics="finite", bbar=True, slide=0.2, size=(0.1, 0.015, 0.3))
+    r = run_scratch(scene, vtu_every=0)
+    b = r.budget
+    assert abs(b.residual) < 1e-8 * b.groove
+    assert b.groove - b.shoulders - b.sink <= b.prow + abs(b.volume_change) + abs(b.faces) + 1e-8 * b.groove
+    z = scene.path.z_start + np.linspace(0.5 * scene.slide, scene.slide - 2 * scene.footprint, 5)
+    along = groove_along(r.specimen, r.u, scene, z)
+    assert np.all(along.degree_of_wear < 0.2)

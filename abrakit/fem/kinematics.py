@@ -286,7 +286,12 @@ class TotalLagrangianKinematics(Kinematics):
     def element_forces(self, stress: np.ndarray) -> np.ndarray:
         """∫_e Gᵀ P dV_0 for every element, ``(nel, nbf)``, from P as 9-vectors ``(nel, nqp, 9)``."""
         P = stress.reshape(*stress.shape[:2], 3, 3)[..., : self.dim, : self.dim] * self.dx[..., None, None]
-        return np.matmul(self.grad_N, np.swapaxes(P, -1, -2)).sum(axis=1).reshape(self.nel, -1)
+        return self.gradient_transpose(P).sum(axis=1)
+
+    def gradient_transpose(self, A: np.ndarray) -> np.ndarray:
+        """Gᵀ vec A at every quadrature point from tensors ``(nel, nqp, dim, dim)``: (Gᵀ vec A)_ai = Σ_J A_iJ
+        ∂N_a/∂X_J, ``(nel, nqp, nbf)`` (without forming G: dim × nnode × dim products per point)."""
+        return np.matmul(self.grad_N, np.swapaxes(A, -1, -2)).reshape(self.nel, self.nqp, self.nbf)
 
 
 class FBarState(NamedTuple):
@@ -343,17 +348,12 @@ class FBarKinematics(TotalLagrangianKinematics):
         volume = self.dx.sum(axis=1)
         J_bar = np.einsum("eq,eq->e", J, self.dx) / volume
         alpha = np.cbrt(J_bar[:, None] / J)
-        Gtg = self._transpose_gradient(np.swapaxes(F_inv, -1, -2))
+        Gtg = self.gradient_transpose(np.swapaxes(F_inv, -1, -2))
         m = np.einsum("eq,eqb->eb", J * self.dx, Gtg) / (volume * J_bar)[:, None]
         h = m[:, None, :] - Gtg
         state = FBarState(F, F_inv, J, J_bar, alpha, m, h, Gtg)
         memo[0], memo[1] = np.array(u, copy=True), state
         return state
-
-    def _transpose_gradient(self, A: np.ndarray) -> np.ndarray:
-        """Gᵀ vec A from 3 × 3 tensors ``(nel, nqp, 3, 3)``: (Gᵀ vec A)_ai = Σ_J A_iJ ∂N_a/∂X_J, ``(nel, nqp, nbf)``
-        (without forming G: 3 × 8 × 3 products per point instead of 9 × 24)."""
-        return np.matmul(self.grad_N, np.swapaxes(A, -1, -2)).reshape(self.nel, self.nqp, self.nbf)
 
     def _b_bar(self, st: FBarState) -> np.ndarray:
         """B̄ = α [G + ⅓ f ⊗ h], δF̄ = B̄ δu, ``(nel, nqp, 9, nbf)`` (formed for the tangent only)."""
@@ -370,7 +370,7 @@ class FBarKinematics(TotalLagrangianKinematics):
             raise ValueError("F-bar element forces need the displacement u")
         st = self.fbar_state(u)
         s = np.einsum("eqm,eqm->eq", st.F.reshape(self.nel, self.nqp, 9), stress)    # B̄ᵀp = α [Gᵀp + (s/3) h]
-        Gtp = self._transpose_gradient(stress.reshape(self.nel, self.nqp, 3, 3))
+        Gtp = self.gradient_transpose(stress.reshape(self.nel, self.nqp, 3, 3))
         return np.einsum("eq,eqb->eb", self.dx * st.alpha, Gtp + (s / 3.0)[..., None] * st.h)
 
     def element_tangents(self, tangent: np.ndarray, stress: np.ndarray, u: np.ndarray) -> np.ndarray:
@@ -380,7 +380,7 @@ class FBarKinematics(TotalLagrangianKinematics):
         nel, nqp, nbf = self.nel, self.nqp, self.nbf
         p = stress
         s = np.einsum("eqm,eqm->eq", st.F.reshape(nel, nqp, 9), p)
-        Gtp = self._transpose_gradient(p.reshape(nel, nqp, 3, 3))
+        Gtp = self.gradient_transpose(p.reshape(nel, nqp, 3, 3))
         X = Gtp + (s / 3.0)[..., None] * st.h
         w = dx * st.alpha / 3.0
 
