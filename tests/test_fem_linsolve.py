@@ -19,7 +19,7 @@ from abrakit.fem import (
 )
 from abrakit.materials import LinearElastic, VonMisesPlasticity
 
-BACKENDS = ["superlu"] + (["pardiso"] if pardiso_available() else [])
+BACKENDS = ["superlu", "dense"] + (["pardiso"] if pardiso_available() else [])
 
 
 def block(n=4):
@@ -120,3 +120,16 @@ def test_pardiso_probe_names_the_mkl_library_for_later_solvers():
     import os
 
     assert os.path.isfile(os.environ["PYPARDISO_MKL_RT"])
+
+
+def test_auto_chooses_dense_lu_for_the_smallest_systems_and_a_sparse_solver_above():
+    """``auto`` picks its back-end at the first solve by the number of unknowns (DENSE_MAX_DOFS)."""
+    from abrakit.fem.linsolve import DENSE_MAX_DOFS
+
+    for n, expected in ((DENSE_MAX_DOFS, "direct-dense"),
+                        (DENSE_MAX_DOFS + 1, "direct-pardiso" if pardiso_available() else "direct-superlu")):
+        K = sp.diags([np.full(n - 1, -1.0), np.full(n, 4.0), np.full(n - 1, -1.0)], [-1, 0, 1], format="csr")
+        solver = DirectSolver()
+        x = solver.solve(K, np.ones(n))
+        assert solver.name == expected
+        np.testing.assert_allclose(K @ x, np.ones(n), rtol=0, atol=1e-12)
