@@ -186,6 +186,8 @@ def planned(quick: bool) -> dict[str, ScratchScene]:
     full, fbar = base.with_(kinematics="finite"), base.with_(kinematics="finite", bbar=True)
     plan["finite_d1um"] = full.with_(depth=0.001)                    # d/R = 0.02, full integration
     plan.update({name: fbar.with_(indenter=SphericalIndenter(R), depth=d) for name, (R, d) in GRAINS.items()})
+    plan["fbar_d3.25um"] = fbar.with_(depth=0.00325)                # brackets 2 N with grain_100um (R = 50 µm)
+    plan["fbar_R100_d1.75um"] = fbar.with_(indenter=SphericalIndenter(0.1), depth=0.00175)   # and with grain_200um
     plan["fbar_d5um"] = fbar.with_(depth=0.005, **SEED_BLOCK)        # d/R = 0.1, the seed's 100 um slide (time)
     seed_scene = ScratchScene(mesh="default", **SEED_FORMULATION, **SEED_BLOCK)   # the seed's scene and mesh
     plan["default_small"] = seed_scene
@@ -195,13 +197,18 @@ def planned(quick: bool) -> dict[str, ScratchScene]:
 
 
 GRAINS = {"grain_100um": (0.05, 0.004), "grain_200um": (0.1, 0.002)}
-"""The grains of Sec. 8.4 (finite strain, F-bar): (R, d) in mm. The seed does not state its depths, only f_N = 2 N.
-The d = 2 µm, R = 50 µm F-bar run carries F_N = 1.03 N; a fully plastic contact carries F = p_m π a²/2 with
-a² ≈ 2 R d, so 2 N needs R d ≈ 200 µm², d = 4 µm for R = 50 µm and d = 2 µm for R = 100 µm. A grain whose force
-misses 2 N by more than ``FORCE_TOLERANCE`` is scratched once more at the depth that scales its force to 2 N."""
+"""First guesses for the grains of Sec. 8.4 (finite strain, F-bar): (R, d) in mm. The seed does not state its
+depths, only f_N = 2 N. The d = 2 µm, R = 50 µm F-bar run carries F_N = 1.03 N; a fully plastic contact carries
+F = p_m π a²/2 with a² ≈ 2 R d, so 2 N needs R d ≈ 200 µm², d = 4 µm for R = 50 µm and d = 2 µm for R = 100 µm."""
+
+GRAIN_SERIES = {"grain_100um": ("finite_fbar", "fbar_d3.25um", "grain_100um"),
+                "grain_200um": ("fbar_R100_d1.75um", "grain_200um")}
+"""F-bar runs of each grain's radius at several depths: the grain at 2 N is interpolated between the two that
+bracket it (:func:`at_two_newtons`)."""
 
 SWEEPS = {"finite strain, full integration": ("finite_d1um", "finite"),
-          "finite strain, F-bar": ("grain_200um", "finite_fbar", "grain_100um", "fbar_d5um")}
+          "finite strain, F-bar": ("grain_200um", "fbar_R100_d1.75um", "finite_fbar", "fbar_d3.25um", "grain_100um",
+                                   "fbar_d5um")}
 """The d/R sweeps of the apparent friction (runs named in the plan, with their depths and radii)."""
 
 FULLINT_GRAINS = {"grain_100um_fullint": "finite", "grain_200um_fullint": "grain_200um_fullint"}
@@ -230,6 +237,30 @@ def at_seed_force(outdir: Path, name: str, scene: ScratchScene, entry: dict, par
     return analyse(name, corrected, run_or_load(outdir, f"{name}_corrected", corrected, partial))
 
 
+GRAIN_KEYS = ("d_um", "A_g_um2", "A_s_um2", "f_ab", "rate_groove_um2", "f_ab_rates")
+
+
+def at_two_newtons(entries: dict[str, dict]) -> dict:
+    """A grain at F_N = 2 N from finished runs of one radius at several depths: every quantity of
+    :data:`GRAIN_KEYS` interpolated linearly in F_N between the two runs that bracket 2 N (the run nearest to 2 N
+    when none bracket it). Returns the row and the removal study of the run nearest 2 N."""
+    done = sorted((e for e in entries.values() if e["row"]["finished"]), key=lambda e: e["row"]["F_N"])
+    if not done:
+        return {"row": {"F_N": np.nan, **{k: np.nan for k in GRAIN_KEYS}, "runs": []}, "removal": None}
+    forces = np.array([e["row"]["F_N"] for e in done])
+    nearest = done[int(np.argmin(np.abs(forces - SEED_FORCE)))]
+    k = int(np.searchsorted(forces, SEED_FORCE))
+    if 0 < k < len(done):
+        lo, hi = done[k - 1], done[k]
+        w = (SEED_FORCE - lo["row"]["F_N"]) / (hi["row"]["F_N"] - lo["row"]["F_N"])
+        row = {q: (1 - w) * lo["row"][q] + w * hi["row"][q] for q in GRAIN_KEYS}
+        row.update(F_N=SEED_FORCE, runs=[lo["row"]["name"], hi["row"]["name"]], weight=w)
+    else:
+        row = {q: nearest["row"][q] for q in GRAIN_KEYS}
+        row.update(F_N=nearest["row"]["F_N"], runs=[nearest["row"]["name"]], weight=0.0)
+    return {"row": row, "removal": nearest["removal"], "removal_run": nearest["row"]["name"]}
+
+
 def main(outdir: Path = RESULTS, quick: bool = False, only: str | None = None, partial: bool = False,
          stored_only: bool = False) -> dict:
     outdir = Path(outdir)
@@ -251,11 +282,12 @@ def main(outdir: Path = RESULTS, quick: bool = False, only: str | None = None, p
                      "model": ploughing_friction(0.1, runs[n]["row"]["R_um"], runs[n]["row"]["d_um"])}
                     for n in names if n in runs]
             for label, names in SWEEPS.items()}
-        grains = {name: at_seed_force(outdir, name, plan[name], runs[name], partial, stored_only)
-                  for name in GRAINS if name in runs}
+        grains = {name: at_two_newtons({n: runs[n] for n in series if n in runs})
+                  for name, series in GRAIN_SERIES.items()}
         fullint = {name: at_seed_force(outdir, name, plan[source], runs[source], partial, stored_only)
                    for name, source in FULLINT_GRAINS.items() if source in runs}
-        runs.update({f"{n}_at_2N": e for n, e in {**grains, **fullint}.items() if e is not runs.get(n)})
+        runs.update({f"{n}_at_2N": e for n, e in fullint.items() if e is not runs.get(n)})
+        results["grains_at_2N"] = {n: e["row"] for n, e in grains.items()}
         for key, pair in (("table_8_4", grains), ("table_8_4_fullint", fullint)):
             if len(pair) == 2:
                 results[key] = table_8_4(*(entry["row"] for entry in pair.values()))
@@ -286,10 +318,8 @@ def table_8_4(fine: dict, coarse: dict) -> dict:
     return {"label": seed["label"], "theta_200um": seed["theta_coarse"].tolist(),
             "seed_printed": seed["seed"].tolist(), "from_seed_inputs": seed["ours"].tolist(),
             "from_steady_rates": rates["ours"].tolist(), "from_sections": section["ours"].tolist(),
-            "grains": {"100um": {k: fine[k] for k in ("d_um", "F_N", "A_g_um2", "f_ab", "rate_groove_um2",
-                                                       "f_ab_rates")},
-                       "200um": {k: coarse[k] for k in ("d_um", "F_N", "A_g_um2", "f_ab", "rate_groove_um2",
-                                                         "f_ab_rates")},
+            "grains": {"100um": {k: fine[k] for k in ("F_N", "runs", *GRAIN_KEYS) if k in fine},
+                       "200um": {k: coarse[k] for k in ("F_N", "runs", *GRAIN_KEYS) if k in coarse},
                        "seed": SEED_GRAINS}}
 
 
