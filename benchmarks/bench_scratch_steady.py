@@ -103,7 +103,8 @@ def analyse(name: str, scene: ScratchScene, folder: Path) -> dict:
     slide_um = curves["slide"][sliding] * 1e3
     # a finished run whose force curve was cut short (its increments lost) keeps its end state; no rates then
     whole_curve = sliding.any() and slide_um.max() >= 0.99 * scene.slide * 1e3
-    rates = steady_rates(curves) if whole_curve or not finished else SteadyRates(*[np.nan] * 7)
+    enough = np.count_nonzero(sliding) >= 3                 # an unfinished run may still be indenting
+    rates = steady_rates(curves) if enough and (whole_curve or not finished) else SteadyRates(*[np.nan] * 7)
     if finished:
         summary = read_json(folder / "summary.json")
         z = scene.path.z_start + np.linspace(0.0, scene.slide, 41)
@@ -240,6 +241,11 @@ def at_seed_force(outdir: Path, name: str, scene: ScratchScene, entry: dict, par
 GRAIN_KEYS = ("d_um", "A_g_um2", "A_s_um2", "f_ab", "rate_groove_um2", "f_ab_rates")
 
 
+def slid_half(row: dict) -> bool:
+    """Whether a run (finished or not) has covered at least half of its slide: enough for a steady mean."""
+    return row["slide_reached_um"] >= 0.5 * row["slide_um"]
+
+
 def at_two_newtons(entries: dict[str, dict]) -> dict:
     """A grain at F_N = 2 N from finished runs of one radius at several depths: every quantity of
     :data:`GRAIN_KEYS` interpolated linearly in F_N between the two runs that bracket 2 N (the run nearest to 2 N
@@ -280,7 +286,7 @@ def main(outdir: Path = RESULTS, quick: bool = False, only: str | None = None, p
             label: [{"name": n, "d_over_R": runs[n]["row"]["d_um"] / runs[n]["row"]["R_um"],
                      "measured": runs[n]["row"]["apparent_friction"],
                      "model": ploughing_friction(0.1, runs[n]["row"]["R_um"], runs[n]["row"]["d_um"])}
-                    for n in names if n in runs]
+                    for n in names if n in runs and slid_half(runs[n]["row"])]
             for label, names in SWEEPS.items()}
         grains = {name: at_two_newtons({n: runs[n] for n in series if n in runs})
                   for name, series in GRAIN_SERIES.items()}
