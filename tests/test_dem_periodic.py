@@ -79,6 +79,10 @@ def test_periodic_cell_refuses_what_it_cannot_do():
     x = np.array([[0.01, 0.01, 0.01], [0.03, 0.01, 0.01]])
     with pytest.raises(ValueError, match="twice the largest interaction"):
         Simulation(Particles.spheres(x, R), periodic=Periodic([0.04, 0.1, 0.1]))
+    clumped = Particles.spheres(x, R)
+    clumped.clump = np.array([0, 0])
+    with pytest.raises(ValueError, match="clumps"):
+        Simulation(clumped, periodic=Periodic([0.1] * 3))
     sim = Simulation(Particles.spheres(x, R), periodic=Periodic([0.1] * 3))
     with pytest.raises(ValueError, match="parallel bonds"):
         install_parallel_bonds(sim, kn=1e9, ks=1e9, tensile_strength=1e6, shear_strength=1e6)

@@ -154,6 +154,8 @@ class Simulation:
         self.contacts = ContactSet.empty_history([], [], len(particles))
         self.wall_contacts = ContactSet.empty_history([], [], len(particles))
         self.clumps = make_clumps(particles)
+        if periodic is not None and self.clumps is not None:
+            raise ValueError("clumps are not supported in a periodic cell (their members would be wrapped one by one)")
         if self.planar:
             particles.x[:, 2] = particles.v[:, 2] = 0.0
             particles.w[:, :2] = 0.0
@@ -289,6 +291,7 @@ class Simulation:
         n = gather(walls.normal, k)
         if self.kernel == "numba":
             r, overlap = self._ball_wall_compiled(force, torque)
+            arm = self._radius_wall - 0.5 * overlap
         else:
             overlap = self._radius_wall - dot(gather(p.x, j) - gather(walls.point, k), n)
             arm = self._radius_wall - 0.5 * overlap
@@ -297,7 +300,6 @@ class Simulation:
             _scatter(force, j, r.force)
             _scatter(torque, j, arm * cross(n, r.force), -1.0)
             _scatter(walls.force, k, r.force, -1.0)
-        arm = self._radius_wall - 0.5 * overlap
         c.ft, c.overlap, c.normal, c.fn, c.force = r.ft, overlap, n, r.fn, r.force
         self._wall_stiffness = np.bincount(k, r.kn * r.touching, len(walls))
         if not self.track_energy:
