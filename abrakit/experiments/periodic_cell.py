@@ -19,6 +19,7 @@ non-rattlers), which needs no interior window. Spheres only (a clump's members w
 from __future__ import annotations
 
 import time
+import warnings
 
 import numpy as np
 
@@ -81,7 +82,11 @@ def periodic_genesis(spec: SpecimenSpec, *, max_steps: int = 40_000) -> Simulati
     for _ in range(spec.expansion_steps):
         sim.scale_radii(factor)
         relax(sim, min_steps=1000, max_steps=max_steps // 4)
-    consolidate_cell(sim, spec.stress, modulus=spec.youngs_modulus / 3.0, max_steps=max_steps)
+    result = consolidate_cell(sim, spec.stress, modulus=spec.youngs_modulus / 3.0, max_steps=max_steps)
+    if not result["converged"]:
+        warnings.warn(f"periodic consolidation did not converge in {result['steps']} steps: p = "
+                      f"{result['pressure']:.4g} Pa for {spec.stress:.4g} Pa, unbalanced-force ratio "
+                      f"{result['ratio']:.2g}", RuntimeWarning, stacklevel=2)
     return sim
 
 
