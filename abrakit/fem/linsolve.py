@@ -19,6 +19,7 @@ import time
 import warnings
 
 import numpy as np
+import scipy.linalg as sla
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
@@ -92,8 +93,6 @@ class _DenseBackend:
         self._lu = None
 
     def factorise(self, K):
-        import scipy.linalg as sla
-
         try:
             with warnings.catch_warnings():
                 warnings.simplefilter("error", sla.LinAlgWarning)
@@ -102,8 +101,6 @@ class _DenseBackend:
             raise LinearSolveError(f"dense LU failed: {exc}") from exc
 
     def solve(self, rhs):
-        import scipy.linalg as sla
-
         return sla.lu_solve(self._lu, rhs, check_finite=False)
 
 
