@@ -11,7 +11,7 @@ the minimum-image convention, d = x_j − x_i − L round((x_j − x_i)/L) per a
 Normal strains of the cell (``Periodic.strain``) are enough for an isotropic packing: no shear of the cell, so no
 Lees–Edwards boundary.
 
-:func:`elastic_probe` applies ε_aa = ±δ along each axis, relaxes, and reads the change of the Love–Weber stress:
+:func:`elastic_probe` applies ε_aa = +δ along each axis in turn, relaxes, and reads the change of the Love–Weber stress:
 C11 = Δσ_aa/δ and C12 = mean of the two lateral Δσ/δ, averaged over the three axes; for an isotropic packing
 
     E = (C11 − C12)(C11 + 2 C12)/(C11 + C12),        ν = C12/(C11 + C12).
