@@ -66,3 +66,82 @@ def test_numba_kernel_in_a_periodic_cell_equals_numpy():
     assert a.contacts.touching.sum() > 64
     assert np.allclose(a.particles.x, b.particles.x, rtol=0, atol=1e-13)
     assert np.allclose(a.contacts.force, b.contacts.force, rtol=1e-8, atol=1e-10)
+
+
+def test_compiled_step_without_energy_account_equals_numpy():
+    """Without an energy account the numba path damps and integrates in one compiled loop (``advance``); with a
+    servo wall, damping, a fixed particle and contact bonds that break, it still follows the NumPy path."""
+    runs = []
+    for kernel in ("numpy", "numba"):
+        sim = dense_packing(125, seed=7, agitation=0.05, kernel=kernel, dt=3e-7, local_damping=0.3,
+                            law=Linear(damping_normal=0.2))
+        sim.particles.fixed[0] = True
+        sim.refresh()
+        sim.walls.add_servo("zmax", 2e3, lambda w: w.box_area("z"), max_speed=0.05)
+        install_contact_bonds(sim, 0.05, 0.05, gap=1e-5)
+        sim.run(300, progress=False)
+        runs.append(sim)
+    a, b = runs
+    assert not a.track_energy and len(a.cracks) > 0 and len(a.cracks) == len(b.cracks)
+    assert np.allclose(a.particles.x, b.particles.x, rtol=0, atol=1e-13)
+    assert np.allclose(a.particles.w, b.particles.w, rtol=1e-8, atol=1e-9)
+    assert np.allclose(a.walls.point, b.walls.point, rtol=0, atol=1e-13)       # the servo saw the same K^n
+    assert np.array_equal(a.particles.v[0], b.particles.v[0])                 # the fixed particle kept its v
+
+
+def test_compiled_planar_step_equals_numpy():
+    from abrakit.dem import Particles, Simulation
+
+    rng = np.random.default_rng(2)
+    g = (np.arange(6) + 0.5) * 0.0198
+    x = np.stack(np.meshgrid(g, g, [0.0], indexing="ij"), -1).reshape(-1, 3) + rng.uniform(-5e-4, 5e-4, (36, 3))
+    runs = []
+    for kernel in ("numpy", "numba"):
+        sim = Simulation(Particles.disks(x[:, :2], 0.01, kn=1e6, friction=0.4), planar=True, kernel=kernel,
+                         dt=2e-6, local_damping=0.2, track_energy=False)
+        sim.run(300, progress=False)
+        runs.append(sim)
+    a, b = runs
+    assert np.all(a.particles.x[:, 2] == 0.0) and np.all(a.particles.w[:, :2] == 0.0)
+    assert np.allclose(a.particles.x, b.particles.x, rtol=0, atol=1e-13)
+
+
+@pytest.mark.parametrize("capacity", [None, 5])
+def test_cell_list_gives_the_kdtree_pairs(capacity):
+    """The compiled cell list finds exactly the cKDTree's candidate pairs, in the same (i, j) order; too short an
+    output array is detected and the search repeated."""
+    from abrakit.dem.kernels import cell_list_pairs
+    from abrakit.dem.neighbours import candidate_pairs
+
+    rng = np.random.default_rng(0)
+    x = rng.uniform(0, 0.05, (400, 3)) * [1.0, 0.3, 2.0]             # flat and elongated box
+    radius = rng.uniform(0.001, 0.003, 400)
+    i0, j0 = candidate_pairs(x, radius, 5e-4)
+    if capacity is None:
+        i1, j1 = candidate_pairs(x, radius, 5e-4, compiled=True)
+    else:
+        i1, j1, count = cell_list_pairs(x, radius, 5e-4, capacity)
+        assert count == len(i0) > capacity
+        i1, j1, count = cell_list_pairs(x, radius, 5e-4, count)
+    assert len(i0) > 100
+    assert np.array_equal(i0, i1) and np.array_equal(j0, j1)
+
+
+def test_compiled_displacement_check_reports_non_finite_positions():
+    sim = dense_packing(27, kernel="numba", dt=3e-7)
+    sim.particles.x[3, 1] = np.nan
+    with pytest.raises(FloatingPointError, match="non-finite"):
+        sim.step()
+
+
+def test_kernel_can_be_switched_between_steps():
+    a = dense_packing(64, seed=1, agitation=0.05, dt=3e-7)
+    b = dense_packing(64, seed=1, agitation=0.05, dt=3e-7)
+    a.run(50, progress=False)
+    b.run(25, progress=False)
+    b.kernel = "numba"
+    b.run(25, progress=False)
+    assert b.neighbours.compiled
+    assert np.allclose(a.particles.x, b.particles.x, rtol=0, atol=1e-13)
+    with pytest.raises(ValueError, match="kernel"):
+        b.kernel = "fortran"

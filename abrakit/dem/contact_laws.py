@@ -10,7 +10,10 @@ A contact law is a small object with four pure methods, all vectorised over cont
   the two bodies' properties (computed once per neighbour-list rebuild);
 - ``normal_force(overlap, prm) -> (F^n, dF^n/dU)``: Eq. (4.6) or (4.13);
 - ``shear_stiffness(F^n, prm) -> K^t``: Eq. (4.12) or (4.14);
-- ``normal_energy(overlap, prm)``: the elastic energy stored by the normal spring.
+- ``normal_energy(overlap, prm)``: the elastic energy stored by the normal spring;
+
+and two flags: ``bondable`` (contact bonds allowed) and ``constant_stiffness`` (K^n and K^t do not depend on the
+overlap, so the critical time step needs no contact geometry).
 
 Everything else — incremental tangential force (4.7), Coulomb slip (4.8), dashpots (4.9, 4.10) and the contact bond
 of Fig. 4.3 — is shared and lives in :func:`force_displacement`. Forces are those body A exerts on body B; the
@@ -107,6 +110,7 @@ class Linear:
     damping_normal: float = 0.0
     damping_shear: float = 0.0
     bondable = True
+    constant_stiffness = True      # K^n, K^t do not depend on the overlap (the time step needs no geometry)
 
     def __post_init__(self):
         check_range("damping_normal", self.damping_normal, 0.0, None)
@@ -155,6 +159,7 @@ class HertzMindlin:
     damping_normal: float = 0.0
     damping_shear: float = 0.0
     bondable = False
+    constant_stiffness = False
 
     def __post_init__(self):
         check_range("damping_normal", self.damping_normal, 0.0, None)

@@ -3,9 +3,10 @@
 ``Simulation(kernel="numba")`` replaces the vectorised contact step of :meth:`Simulation._ball_ball` by
 :func:`linear_contacts`: the same equations, Eq. (4.1)–(4.10) with contact bonds, written as one loop over the
 contacts that also sums the forces onto the particles (so no temporary (3, M) arrays are made), and
-:func:`linear_wall_contacts` the particle–wall step; both call one inlined law, :func:`_linear_law`. Results equal
-the NumPy path to round-off (the summation order differs); ``tests/test_dem_kernels.py`` checks it. Parallel bonds,
-clumps and Hertz–Mindlin stay on the NumPy path.
+:func:`linear_wall_contacts` the particle–wall step; both call one inlined law, :func:`_linear_law`. Without an
+energy account and without clumps, :func:`advance` does local damping and the leap-frog update in one loop over
+the particles. Results equal the NumPy path to round-off (the summation order differs); ``tests/test_dem_kernels.py``
+checks it. Parallel bonds, clumps and Hertz–Mindlin stay on the NumPy path.
 """
 
 from __future__ import annotations
@@ -16,7 +17,7 @@ import numpy as np
 
 from ..compiled import HAVE_NUMBA, njit
 
-__all__ = ["HAVE_NUMBA", "linear_contacts", "linear_wall_contacts"]
+__all__ = ["HAVE_NUMBA", "advance", "linear_contacts", "linear_wall_contacts"]
 
 
 @njit(cache=True, inline="always")
@@ -66,16 +67,19 @@ def _linear_law(U, n0, n1, n2, r0, r1, r2, f0, f1, f2, kn, kt, mu, beta_n, beta_
 
 
 @njit(cache=True, error_model="numpy")
-def linear_contacts(x, v, w, radius_sum, radius_i, radius_j, i, j, kn, kt, mu, beta_n, beta_t, ft, bonded,
-                    bond_gap, bond_normal, bond_shear, dt, force, torque, out_overlap, out_normal, out_fn,
-                    out_force, out_dashpot, out_trial, out_flags, box):
+def linear_contacts(x, v, w, radius, i, j, kn, kt, mu, beta_n, beta_t, ft, bonded, bond_gap, bond_normal,
+                    bond_shear, dt, force, torque, out_ft, out_overlap, out_normal, out_fn, out_force, out_dashpot,
+                    out_trial, out_flags, box):
     """Linear contact law on every contact, summed onto ``force``/``torque`` (both (N, 3), updated in place).
 
-    ``ft`` (3, M) is updated in place (the new tangential spring force). Per contact outputs: overlap, normal
-    (3, M), spring normal force, total force on B (3, M), dashpot force (3, M), trial shear force magnitude
-    before the Coulomb cap, and ``out_flags`` (4, M): touching, sliding, tension failure, shear failure.
-    ``box`` (3,): the periodic cell's lengths (branch vectors to the nearest image), zeros without a cell.
+    ``ft`` (3, M) is the tangential spring force before the step, ``out_ft`` after it. Per contact outputs:
+    overlap, normal (3, M), spring normal force, total force on B (3, M), dashpot force (3, M; pass a (3, 0)
+    array to skip it), trial shear force magnitude before the Coulomb cap, and ``out_flags`` (4, M): touching,
+    sliding, tension failure, shear failure. ``box`` (3,): the periodic cell's lengths (branch vectors to the
+    nearest image), zeros without a cell. Returns the number of bonds that failed.
     """
+    keep_dashpot = out_dashpot.shape[1] > 0
+    failures = 0
     periodic = box[0] > 0.0
     for c in range(i.shape[0]):
         a, b = i[c], j[c]
@@ -87,8 +91,18 @@ def linear_contacts(x, v, w, radius_sum, radius_i, radius_j, i, j, kn, kt, mu, b
             d2 -= box[2] * np.round(d2 / box[2])
         dist = math.sqrt(d0 * d0 + d1 * d1 + d2 * d2)
         n0, n1, n2 = d0 / dist, d1 / dist, d2 / dist
-        U = radius_sum[c] - dist
-        arm_a, arm_b = radius_i[c] - 0.5 * U, radius_j[c] - 0.5 * U
+        U = (radius[a] + radius[b]) - dist
+        out_overlap[c] = U
+        out_normal[0, c], out_normal[1, c], out_normal[2, c] = n0, n1, n2
+        if U <= 0.0 and not bonded[c]:     # a gap: the law gives zero forces and resets the spring
+            out_ft[0, c] = out_ft[1, c] = out_ft[2, c] = 0.0
+            out_fn[c] = out_trial[c] = 0.0
+            out_force[0, c] = out_force[1, c] = out_force[2, c] = 0.0
+            if keep_dashpot:
+                out_dashpot[0, c] = out_dashpot[1, c] = out_dashpot[2, c] = 0.0
+            out_flags[0, c] = out_flags[1, c] = out_flags[2, c] = out_flags[3, c] = False
+            continue
+        arm_a, arm_b = radius[a] - 0.5 * U, radius[b] - 0.5 * U
         # velocity of B's contact point relative to A's: v_B − v_A − (r'_A ω_A + r'_B ω_B) × n
         s0 = arm_a * w[a, 0] + arm_b * w[b, 0]
         s1 = arm_a * w[a, 1] + arm_b * w[b, 1]
@@ -99,7 +113,7 @@ def linear_contacts(x, v, w, radius_sum, radius_i, radius_j, i, j, kn, kt, mu, b
         fn, f0, f1, f2, F0, F1, F2, D0, D1, D2, magnitude, touching, sliding, tension, shear = _linear_law(
             U, n0, n1, n2, r0, r1, r2, ft[0, c], ft[1, c], ft[2, c], kn[c], kt[c], mu[c], beta_n[c], beta_t[c], dt,
             bonded[c], bond_gap[c], bond_normal[c], bond_shear[c])
-        ft[0, c], ft[1, c], ft[2, c] = f0, f1, f2
+        out_ft[0, c], out_ft[1, c], out_ft[2, c] = f0, f1, f2
         # Newton's third law: B gets +F, A gets −F; both get the moment −r' n × F
         force[b, 0] += F0
         force[b, 1] += F1
@@ -114,27 +128,30 @@ def linear_contacts(x, v, w, radius_sum, radius_i, radius_j, i, j, kn, kt, mu, b
         torque[b, 0] -= arm_b * l0
         torque[b, 1] -= arm_b * l1
         torque[b, 2] -= arm_b * l2
-        out_overlap[c] = U
-        out_normal[0, c], out_normal[1, c], out_normal[2, c] = n0, n1, n2
         out_fn[c] = fn
         out_trial[c] = magnitude
         out_force[0, c], out_force[1, c], out_force[2, c] = F0, F1, F2
-        out_dashpot[0, c], out_dashpot[1, c], out_dashpot[2, c] = D0, D1, D2
+        if keep_dashpot:
+            out_dashpot[0, c], out_dashpot[1, c], out_dashpot[2, c] = D0, D1, D2
         out_flags[0, c], out_flags[1, c], out_flags[2, c], out_flags[3, c] = touching, sliding, tension, shear
+        failures += tension or shear
+    return failures
 
 
 @njit(cache=True, error_model="numpy")
 def linear_wall_contacts(x, v, w, radius, k, j, normal, point, velocity, kn, kt, mu, beta_n, beta_t, ft, dt,
-                         force, torque, wall_force, out_overlap, out_fn, out_force, out_dashpot, out_trial,
-                         out_flags):
+                         force, torque, wall_force, wall_stiffness, out_ft, out_overlap, out_fn, out_force,
+                         out_dashpot, out_trial, out_flags):
     """The linear law on particle–wall contacts (wall ``k`` is body A, its normal the contact normal), summed
-    onto ``force``/``torque`` of the particles and ``wall_force`` (W, 3) of the walls; outputs as
+    onto ``force``/``torque`` of the particles, ``wall_force`` (W, 3) and the touching contacts' K^n onto
+    ``wall_stiffness`` (W,) of the walls (a servo's gain); ``radius`` of the particles; outputs as
     :func:`linear_contacts` (flags: touching, sliding)."""
+    keep_dashpot = out_dashpot.shape[1] > 0
     for c in range(k.shape[0]):
         a, b = k[c], j[c]
         n0, n1, n2 = normal[a, 0], normal[a, 1], normal[a, 2]
-        U = radius[c] - ((x[b, 0] - point[a, 0]) * n0 + (x[b, 1] - point[a, 1]) * n1 + (x[b, 2] - point[a, 2]) * n2)
-        arm = radius[c] - 0.5 * U
+        U = radius[b] - ((x[b, 0] - point[a, 0]) * n0 + (x[b, 1] - point[a, 1]) * n1 + (x[b, 2] - point[a, 2]) * n2)
+        arm = radius[b] - 0.5 * U
         s0, s1, s2 = arm * w[b, 0], arm * w[b, 1], arm * w[b, 2]
         r0 = v[b, 0] - velocity[a, 0] - (s1 * n2 - s2 * n1)
         r1 = v[b, 1] - velocity[a, 1] - (s2 * n0 - s0 * n2)
@@ -142,13 +159,15 @@ def linear_wall_contacts(x, v, w, radius, k, j, normal, point, velocity, kn, kt,
         fn, f0, f1, f2, F0, F1, F2, D0, D1, D2, magnitude, touching, sliding, _, _ = _linear_law(
             U, n0, n1, n2, r0, r1, r2, ft[0, c], ft[1, c], ft[2, c], kn[c], kt[c], mu[c], beta_n[c], beta_t[c], dt,
             False, 0.0, 0.0, 0.0)
-        ft[0, c], ft[1, c], ft[2, c] = f0, f1, f2
+        out_ft[0, c], out_ft[1, c], out_ft[2, c] = f0, f1, f2
         force[b, 0] += F0
         force[b, 1] += F1
         force[b, 2] += F2
         wall_force[a, 0] -= F0
         wall_force[a, 1] -= F1
         wall_force[a, 2] -= F2
+        if touching:
+            wall_stiffness[a] += kn[c]
         l0, l1, l2 = n1 * F2 - n2 * F1, n2 * F0 - n0 * F2, n0 * F1 - n1 * F0
         torque[b, 0] -= arm * l0
         torque[b, 1] -= arm * l1
@@ -157,5 +176,105 @@ def linear_wall_contacts(x, v, w, radius, k, j, normal, point, velocity, kn, kt,
         out_fn[c] = fn
         out_trial[c] = magnitude
         out_force[0, c], out_force[1, c], out_force[2, c] = F0, F1, F2
-        out_dashpot[0, c], out_dashpot[1, c], out_dashpot[2, c] = D0, D1, D2
+        if keep_dashpot:
+            out_dashpot[0, c], out_dashpot[1, c], out_dashpot[2, c] = D0, D1, D2
         out_flags[0, c], out_flags[1, c] = touching, sliding
+
+
+@njit(cache=True, error_model="numpy")
+def advance(x, v, w, force, torque, inv_mass, inv_inertia, alpha, planar, dt, kick):
+    """Local damping F_d = −α |F| sign(v) (seed 002 Eq. 5, 6), the planar constraint (no z force, no x/y moment)
+    and the leap-frog update (Eq. 7–9) in one loop over the particles, in place: what
+    :func:`~abrakit.dem.integrate.local_damping` and :func:`~abrakit.dem.integrate.leapfrog` do in NumPy, with the
+    same operations in the same order."""
+    for p in range(x.shape[0]):
+        for k in range(3):
+            f, t = force[p, k], torque[p, k]
+            if alpha > 0.0:
+                f += -alpha * abs(f) * np.sign(v[p, k])
+                t += -alpha * abs(t) * np.sign(w[p, k])
+            if planar:
+                if k == 2:
+                    f = 0.0
+                else:
+                    t = 0.0
+            v[p, k] += f * (inv_mass[p] * kick)
+            w[p, k] += t * (inv_inertia[p] * kick)
+            x[p, k] += v[p, k] * dt
+
+
+@njit(cache=True)
+def cell_list_pairs(x, radius, skin, capacity):
+    """Candidate pairs ``i < j`` with surface gap below ``skin``, sorted by ``(i, j)``, from a cell list (cells of
+    edge 2 r_max + skin, each particle checks the 27 cells around its own): the compiled counterpart of the
+    ``cKDTree`` search in :func:`abrakit.dem.neighbours.candidate_pairs`, without a periodic cell.
+
+    Returns ``(i, j, count)``; ``count > capacity`` means the arrays were too short (call again with ``count``).
+    """
+    n = x.shape[0]
+    cutoff = 2.0 * radius.max() + skin
+    lower = np.empty(3)
+    dims = np.empty(3, np.int64)
+    for k in range(3):
+        lower[k] = x[:, k].min()
+        dims[k] = max(1, int((x[:, k].max() - lower[k]) / cutoff) + 1)
+    cell = np.empty(n, np.int64)
+    for p in range(n):
+        cx = min(int((x[p, 0] - lower[0]) / cutoff), dims[0] - 1)
+        cy = min(int((x[p, 1] - lower[1]) / cutoff), dims[1] - 1)
+        cz = min(int((x[p, 2] - lower[2]) / cutoff), dims[2] - 1)
+        cell[p] = (cx * dims[1] + cy) * dims[2] + cz
+    # particles grouped by cell (counting sort), ascending index within a cell
+    start = np.zeros(dims[0] * dims[1] * dims[2] + 1, np.int64)
+    for p in range(n):
+        start[cell[p] + 1] += 1
+    for q in range(len(start) - 1):
+        start[q + 1] += start[q]
+    fill = start[:-1].copy()
+    members = np.empty(n, np.int64)
+    for p in range(n):
+        members[fill[cell[p]]] = p
+        fill[cell[p]] += 1
+    out_i = np.empty(capacity, np.int64)
+    out_j = np.empty(capacity, np.int64)
+    count = 0
+    found = np.empty(n, np.int64)
+    for a in range(n):
+        cz = cell[a] % dims[2]
+        cy = (cell[a] // dims[2]) % dims[1]
+        cx = cell[a] // (dims[1] * dims[2])
+        m = 0
+        for ix in range(max(cx - 1, 0), min(cx + 2, dims[0])):
+            for iy in range(max(cy - 1, 0), min(cy + 2, dims[1])):
+                for iz in range(max(cz - 1, 0), min(cz + 2, dims[2])):
+                    q = (ix * dims[1] + iy) * dims[2] + iz
+                    for s in range(start[q], start[q + 1]):
+                        b = members[s]
+                        if b <= a:
+                            continue
+                        d0, d1, d2 = x[b, 0] - x[a, 0], x[b, 1] - x[a, 1], x[b, 2] - x[a, 2]
+                        reach = radius[a] + radius[b] + skin
+                        if d0 * d0 + d1 * d1 + d2 * d2 < reach * reach:
+                            s = m                  # insertion sort: the few neighbours of a in ascending order
+                            while s > 0 and found[s - 1] > b:
+                                found[s] = found[s - 1]
+                                s -= 1
+                            found[s] = b
+                            m += 1
+        for s in range(m):
+            if count < capacity:
+                out_i[count], out_j[count] = a, found[s]
+            count += 1
+    return out_i, out_j, count
+
+
+@njit(cache=True)
+def largest_distance_squared(a, b):
+    """max_k |a_k − b_k|² over the rows of two (K, 3) arrays: the Verlet list's displacement check."""
+    largest = 0.0
+    for k in range(a.shape[0]):
+        d0, d1, d2 = a[k, 0] - b[k, 0], a[k, 1] - b[k, 1], a[k, 2] - b[k, 2]
+        squared = d0 * d0 + d1 * d1 + d2 * d2
+        if squared > largest or squared != squared:     # a NaN stays (the caller reports it)
+            largest = squared
+    return largest

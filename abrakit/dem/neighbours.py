@@ -14,17 +14,30 @@ from scipy.spatial import cKDTree
 
 from abrakit.dem.state import ContactSet, pair_keys
 
-__all__ = ["VerletList", "candidate_pairs", "transfer_history", "wall_candidates"]
+__all__ = ["VerletList", "candidate_pairs", "largest_distance", "transfer_history", "wall_candidates"]
 
 
-def candidate_pairs(x, radius, skin, clump=None, periodic=None):
+def candidate_pairs(x, radius, skin, clump=None, periodic=None, compiled=False):
     """Index pairs ``i < j`` whose surface gap is below ``skin`` [m]; pairs inside one clump are skipped.
 
     ``periodic`` (:class:`~abrakit.dem.periodic.Periodic`, positions inside its cell): the tree is toroidal
-    (``cKDTree(boxsize=L)``) and gaps are measured between nearest images. Returned sorted by ``(i, j)``.
+    (``cKDTree(boxsize=L)``) and gaps are measured between nearest images. ``compiled`` (numba, no periodic
+    cell): the same pairs from the cell list :func:`abrakit.dem.kernels.cell_list_pairs`, about twice as fast.
+    Returned sorted by ``(i, j)``.
     """
     if len(x) < 2:
         return np.zeros(0, np.int64), np.zeros(0, np.int64)
+    if compiled and periodic is None:
+        from abrakit.dem.kernels import cell_list_pairs
+
+        i, j, count = cell_list_pairs(x, radius, skin, 8 * len(x))
+        if count > 8 * len(x):
+            i, j, count = cell_list_pairs(x, radius, skin, count)
+        i, j = i[:count], j[:count]
+        if clump is not None:
+            keep = (clump[i] < 0) | (clump[i] != clump[j])
+            i, j = i[keep], j[keep]
+        return i, j
     if periodic is None:
         tree = cKDTree(x)
     else:
@@ -51,15 +64,20 @@ def wall_candidates(x, radius, walls, skin):
 
 
 def transfer_history(old: ContactSet, new: ContactSet) -> ContactSet:
-    """Copy the history fields (:attr:`ContactSet.HISTORY`) of contacts present in both sets into ``new``."""
+    """Copy the history (:attr:`ContactSet.HISTORY`: the tangential spring, and the bond fields of intact bonds)
+    of contacts present in both sets into ``new``."""
     if len(old) == 0 or len(new) == 0:
         return new
     pos = np.searchsorted(old.keys, new.keys)
     pos = np.minimum(pos, len(old) - 1)
     found = old.keys[pos] == new.keys
     src, dst = pos[found], np.flatnonzero(found)
-    for name in ContactSet.HISTORY:
-        getattr(new, name)[..., dst] = getattr(old, name)[..., src]
+    new.ft[:, dst] = old.ft[:, src]
+    bonded = old.bonded[src]
+    if bonded.any():                     # the bond fields are read only where a bond is intact
+        src, dst = src[bonded], dst[bonded]
+        for name in ContactSet.HISTORY[1:]:
+            getattr(new, name)[dst] = getattr(old, name)[src]
     return new
 
 
@@ -71,8 +89,9 @@ class VerletList:
     may then have closed a gap of one skin.
     """
 
-    def __init__(self, skin: float):
+    def __init__(self, skin: float, compiled: bool = False):
         self.skin = float(skin)
+        self.compiled = bool(compiled)      # numba: the displacement check as one compiled loop
         self.x_ref = None
         self.wall_ref = None
         self.builds = 0
@@ -83,8 +102,7 @@ class VerletList:
         self.builds += 1
 
     def max_displacement(self, x) -> float:
-        dx = x - self.x_ref
-        return float(np.sqrt(np.max(np.einsum("ij,ij->i", dx, dx)))) if len(dx) else 0.0
+        return largest_distance(x, self.x_ref, self.compiled)
 
     def needs_rebuild(self, x, wall_points=None) -> bool:
         if self.x_ref is None or len(x) != len(self.x_ref):
@@ -96,6 +114,18 @@ class VerletList:
                 "has a singular contact (check dt, stiffness ratios and initial overlaps)"
             )
         dw = 0.0
-        if wall_points is not None and self.wall_ref is not None and len(wall_points):
-            dw = float(np.max(np.linalg.norm(wall_points - self.wall_ref, axis=1)))
+        if wall_points is not None and self.wall_ref is not None:
+            dw = largest_distance(wall_points, self.wall_ref, self.compiled)
         return dp + max(dp, dw) > self.skin
+
+
+def largest_distance(a, b, compiled: bool = False) -> float:
+    """max_k |a_k − b_k| over the rows of two (K, 3) arrays (0 for K = 0); ``compiled``: the numba loop."""
+    if not len(a):
+        return 0.0
+    if compiled:
+        from abrakit.dem.kernels import largest_distance_squared
+
+        return float(np.sqrt(largest_distance_squared(a, b)))
+    d = a - b
+    return float(np.sqrt(np.max(np.einsum("ij,ij->i", d, d))))

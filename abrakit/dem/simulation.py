@@ -118,13 +118,8 @@ class Simulation:
             raise ValueError("particles must be a non-empty Particles set (see Particles.spheres)")
         self.particles = particles
         self.law = Linear() if law is None else law
-        self.kernel = check_option("kernel", kernel, ("numpy", "numba"))
-        if kernel == "numba":
-            from abrakit.dem.kernels import HAVE_NUMBA
-            if not HAVE_NUMBA:
-                raise ImportError("kernel='numba' needs numba: pip install abrakit[fast]")
-            if type(self.law) is not Linear:
-                raise ValueError("kernel='numba' implements the Linear law only; use kernel='numpy'")
+        self.neighbours = VerletList(0.0)
+        self.kernel = kernel
         self.periodic = periodic
         self.walls = Walls() if walls is None else walls
         self.gravity = np.asarray(check_finite("gravity", gravity), float).reshape(3)
@@ -150,7 +145,7 @@ class Simulation:
         self.parallel_bonds = ParallelBonds.empty()
         self.cracks = CrackLog()
         self.energy = EnergyAccount()
-        self.neighbours = VerletList(self.skin)
+        self.neighbours.skin = self.skin
         self.contacts = ContactSet.empty_history([], [], len(particles))
         self.wall_contacts = ContactSet.empty_history([], [], len(particles))
         self.clumps = make_clumps(particles)
@@ -162,6 +157,23 @@ class Simulation:
         if periodic is not None:
             periodic.check_range(2.0 * float(particles.radius.max()) + self.skin)
         self.refresh()
+
+    @property
+    def kernel(self) -> str:
+        """"numpy" or "numba" (the compiled contact loops, extra ``fast``); may be switched between steps."""
+        return self._kernel
+
+    @kernel.setter
+    def kernel(self, value: str) -> None:
+        check_option("kernel", value, ("numpy", "numba"))
+        if value == "numba":
+            from abrakit.dem.kernels import HAVE_NUMBA
+            if not HAVE_NUMBA:
+                raise ImportError("kernel='numba' needs numba: pip install abrakit[fast]")
+            if type(self.law) is not Linear:
+                raise ValueError("kernel='numba' implements the Linear law only; use kernel='numpy'")
+        self._kernel = value
+        self.neighbours.compiled = value == "numba"
 
     @property
     def dt(self) -> float:
@@ -187,6 +199,20 @@ class Simulation:
         stored = self._ball_ball(force, torque)                  # Eq. (4.1)–(4.14), contact bonds
         stored += self._ball_wall(force, torque)
         stored += self._parallel_bonds(force, torque)
+        kick = 0.5 * dt if self.step_count == 0 else dt             # v given at t = 0: start with a half kick
+        if self.kernel == "numba" and not self.track_energy and self.clumps is None:
+            from abrakit.dem.kernels import advance
+            advance(p.x, p.v, p.w, force, torque, self.inv_mass, self.inv_inertia, self.local_damping, self.planar,
+                    dt, kick)                                     # :meth:`_update` in one compiled loop
+            self._move_walls(dt)
+        else:
+            self._update(force, torque, stored, kick)
+        self.time += dt
+        self.step_count += 1
+
+    def _update(self, force, torque, stored, kick) -> None:
+        """Newton's second law with local damping, the leap-frog update, clumps, walls, and the energy account."""
+        p, dt = self.particles, self.dt
         v_old, w_old = (p.v.copy(), p.w.copy()) if self.track_energy else (None, None)
         force_total, torque_total = force, torque
         if self.local_damping:                                    # seed 002 Eq. (5), (6)
@@ -195,20 +221,21 @@ class Simulation:
         if self.planar:                                           # 2D: motion in the x–y plane only
             force_total[:, 2] = 0.0
             torque_total[:, :2] = 0.0
-        kick = 0.5 * dt if self.step_count == 0 else dt             # v given at t = 0: start with a half kick
         leapfrog(p.x, p.v, p.w, force_total, torque_total, self.inv_mass, self.inv_inertia, dt, kick)  # Eq. 7–9
         clump_damping = 0.0
         if self.clumps is not None:
             clump_damping = self.clumps.step(p, force, torque, dt, self.local_damping, kick)
         wall_velocity_old = self.walls.velocity.copy()
-        for servo in self.walls.servos:
-            servo.update(self.walls, self._wall_stiffness[servo.wall], dt)
-        self.walls.move(dt)
+        self._move_walls(dt)
         if self.track_energy:
             self._account(stored, force, force_total - force, torque_total - torque, v_old, w_old,
                           wall_velocity_old, clump_damping)
-        self.time += dt
-        self.step_count += 1
+
+    def _move_walls(self, dt) -> None:
+        """Servos set their walls' velocities from this step's wall forces; then every wall moves."""
+        for servo in self.walls.servos:
+            servo.update(self.walls, self._wall_stiffness[servo.wall], dt)
+        self.walls.move(dt)
 
     def _ball_ball(self, force, torque) -> float:
         """Particle–particle contacts: geometry (Eq. 4.1–4.4), force–displacement law, sums onto particles."""
@@ -217,7 +244,7 @@ class Simulation:
             return self._no_contacts(c)
         i, j = c.i, c.j
         if self.kernel == "numba":
-            r, overlap, n = self._ball_ball_compiled(force, torque)
+            r, overlap, n, failed = self._ball_ball_compiled(force, torque)
         else:
             d = gather(p.x, j) - gather(p.x, i)
             if self.periodic is not None:
@@ -235,8 +262,9 @@ class Simulation:
             lever = cross(n, r.force)                                 # moment arm × force: −r' n × F
             _scatter(torque, i, arm_i * lever, -1.0)
             _scatter(torque, j, arm_j * lever, -1.0)
+            failed = r.tension_failure.any() or r.shear_failure.any()
         c.ft, c.overlap, c.normal, c.fn, c.force = r.ft, overlap, n, r.fn, r.force
-        if r.tension_failure.any() or r.shear_failure.any():
+        if failed:
             self._record_contact_cracks(r, gather(p.x, i) + (self._radius_i - 0.5 * overlap) * n)
         if not self.track_energy:
             return 0.0
@@ -256,16 +284,15 @@ class Simulation:
         p, c, prm = self.particles, self.contacts, self.contacts.prm
         m = len(c)
         overlap, fn, trial = np.empty(m), np.empty(m), np.empty(m)
-        n, total, dashpot = np.empty((3, m)), np.empty((3, m)), np.empty((3, m))
+        ft, n, total = np.empty((3, m)), np.empty((3, m)), np.empty((3, m))
+        dashpot = np.empty((3, m if self.law.damping_normal or self.law.damping_shear else 0))
         flags = np.empty((4, m), np.bool_)
-        ft = c.ft.copy()
-        linear_contacts(p.x, p.v, p.w, self._radius_sum, self._radius_i, self._radius_j, c.i, c.j, prm["kn"],
-                        prm["kt"], prm["mu"], prm["beta_n"], prm["beta_t"], ft, c.bonded, c.bond_gap,
-                        c.bond_normal_strength, c.bond_shear_strength, self.dt, force, torque, overlap, n, fn,
-                        total, dashpot, trial, flags,
+        failed = linear_contacts(p.x, p.v, p.w, p.radius, c.i, c.j, prm["kn"], prm["kt"], prm["mu"], prm["beta_n"],
+                        prm["beta_t"], c.ft, c.bonded, c.bond_gap, c.bond_normal_strength, c.bond_shear_strength,
+                        self.dt, force, torque, ft, overlap, n, fn, total, dashpot, trial, flags,
                         np.zeros(3) if self.periodic is None else self.periodic.lengths)
         r = self._compiled_forces(prm, total, fn, ft, flags, trial, dashpot)
-        return r, overlap, n
+        return r, overlap, n, failed > 0
 
     def _compiled_forces(self, prm, total, fn, ft, flags, trial, dashpot) -> ContactForces:
         """The kernels' outputs as the :class:`ContactForces` of the NumPy path (slip work as μF^n · slip)."""
@@ -288,9 +315,12 @@ class Simulation:
         if not len(c):
             return self._no_contacts(c)
         k, j = c.i, c.j
-        n = gather(walls.normal, k)
+        n = self._wall_normal
         if self.kernel == "numba":
             r, overlap = self._ball_wall_compiled(force, torque)
+            c.ft, c.overlap, c.normal, c.fn, c.force = r.ft, overlap, n, r.fn, r.force
+            if not self.track_energy:
+                return 0.0
             arm = self._radius_wall - 0.5 * overlap
         else:
             overlap = self._radius_wall - dot(gather(p.x, j) - gather(walls.point, k), n)
@@ -300,8 +330,8 @@ class Simulation:
             _scatter(force, j, r.force)
             _scatter(torque, j, arm * cross(n, r.force), -1.0)
             _scatter(walls.force, k, r.force, -1.0)
-        c.ft, c.overlap, c.normal, c.fn, c.force = r.ft, overlap, n, r.fn, r.force
-        self._wall_stiffness = np.bincount(k, r.kn * r.touching, len(walls))
+            self._wall_stiffness = np.bincount(k, r.kn * r.touching, len(walls))
+            c.ft, c.overlap, c.normal, c.fn, c.force = r.ft, overlap, n, r.fn, r.force
         if not self.track_energy:
             return 0.0
         self.energy.friction += r.slip_dissipation
@@ -319,14 +349,12 @@ class Simulation:
         p, c, walls, prm = self.particles, self.wall_contacts, self.walls, self.wall_contacts.prm
         m = len(c)
         overlap, fn, trial = np.empty(m), np.empty(m), np.empty(m)
-        total, dashpot = np.empty((3, m)), np.empty((3, m))
+        ft, total = np.empty((3, m)), np.empty((3, m))
+        dashpot = np.empty((3, m if self.law.damping_normal or self.law.damping_shear else 0))
         flags = np.empty((2, m), np.bool_)
-        ft = c.ft.copy()
-        kn, kt, mu, beta_n, beta_t = (np.ascontiguousarray(np.broadcast_to(prm[q], (m,)), dtype=float)
-                                      for q in ("kn", "kt", "mu", "beta_n", "beta_t"))
-        linear_wall_contacts(p.x, p.v, p.w, self._radius_wall, c.i, c.j, walls.normal, walls.point, walls.velocity,
-                             kn, kt, mu, beta_n, beta_t, ft, self.dt, force, torque, walls.force, overlap, fn, total,
-                             dashpot, trial, flags)
+        linear_wall_contacts(p.x, p.v, p.w, p.radius, c.i, c.j, walls.normal, walls.point, walls.velocity,
+                             *self._wall_prm, c.ft, self.dt, force, torque, walls.force, self._wall_stiffness, ft,
+                             overlap, fn, total, dashpot, trial, flags)
         return self._compiled_forces(prm, total, fn, ft, flags, trial, dashpot), overlap
 
     @staticmethod
@@ -413,7 +441,7 @@ class Simulation:
         if self.periodic is not None:
             self.periodic.wrap(p.x)
         i, j = candidate_pairs(p.x, p.radius, self.skin, p.clump if self.clumps is not None else None,
-                               self.periodic)
+                               self.periodic, compiled=self.kernel == "numba")
         keys = pair_keys(i, j, n)
         old = self.contacts
         forced = [old.keys[old.bonded]] if len(old) else []
@@ -439,6 +467,10 @@ class Simulation:
         wall_new.prm = self.law.wall_parameters(p, self.walls, k, jw)
         self.wall_contacts = wall_new
         self._radius_wall = p.radius[jw]
+        self._wall_normal = gather(self.walls.normal, k)            # walls translate only: fixed until the next build
+        if type(self.law) is Linear:                 # per contact, for the compiled wall loop
+            self._wall_prm = tuple(np.ascontiguousarray(np.broadcast_to(wall_new.prm[q], (len(jw),)), dtype=float)
+                                   for q in ("kn", "kt", "mu", "beta_n", "beta_t"))
         self._wall_stiffness = np.zeros(len(self.walls))
         self.neighbours.mark_built(p.x, self.walls.point)
         self.update_time_step()
@@ -478,12 +510,13 @@ class Simulation:
         for c, sides in ((self.contacts, ("i", "j")), (self.wall_contacts, ("j",))):
             if not len(c):
                 continue
-            radius_sum = (p.radius[c.i] + p.radius[c.j]) if len(sides) == 2 else p.radius[c.j]
-            if len(sides) == 2:
-                gap_overlap = radius_sum - np.linalg.norm(self.branch(c.i, c.j), axis=1)
+            reference = 0.01 * (p.radius[c.j] if len(sides) == 1 else np.minimum(p.radius[c.i], p.radius[c.j]))
+            if getattr(law, "constant_stiffness", False):
+                gap_overlap = reference
+            elif len(sides) == 2:
+                gap_overlap = p.radius[c.i] + p.radius[c.j] - np.linalg.norm(self.branch(c.i, c.j), axis=1)
             else:
                 gap_overlap = p.radius[c.j] - rowdot(p.x[c.j] - self.walls.point[c.i], self.walls.normal[c.i])
-            reference = 0.01 * (p.radius[c.j] if len(sides) == 1 else np.minimum(p.radius[c.i], p.radius[c.j]))
             fn, kn = law.normal_force(np.maximum(gap_overlap, reference), c.prm)
             kt = np.broadcast_to(law.shear_stiffness(fn, c.prm), fn.shape)
             kn = np.broadcast_to(kn, fn.shape)
