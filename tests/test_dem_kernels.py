@@ -145,3 +145,16 @@ def test_kernel_can_be_switched_between_steps():
     assert np.allclose(a.particles.x, b.particles.x, rtol=0, atol=1e-13)
     with pytest.raises(ValueError, match="kernel"):
         b.kernel = "fortran"
+
+
+@pytest.mark.parametrize("kernel", ["numpy", "numba"])
+def test_gaps_in_the_verlet_list_carry_nothing(kernel):
+    """Both paths skip the law on candidate pairs with a gap: those hold zero force, spring and normal force,
+    while every overlapping pair is computed."""
+    sim = dense_packing(216, seed=4, agitation=0.05, kernel=kernel, dt=3e-7)
+    sim.run(100, progress=False)
+    c = sim.contacts
+    gap = (c.overlap <= 0.0) & ~c.bonded
+    assert 0.2 < gap.mean() < 0.8
+    assert np.all(c.fn[gap] == 0.0) and np.all(c.ft[:, gap] == 0.0) and np.all(c.force[:, gap] == 0.0)
+    assert np.all(c.fn[~gap] > 0.0)

@@ -80,6 +80,14 @@ def gather(a, index):
     return np.take(a.T, index, axis=1)
 
 
+def _place(values, index, m):
+    """A (…, m) array that holds ``values`` (…, K) at ``index`` and zeros elsewhere."""
+    out = np.zeros(values.shape[:-1] + (m,), values.dtype)
+    for row, part in zip(out.reshape(-1, m), values.reshape(out.size // m, -1)):   # by rows: faster than 2D
+        row[index] = part
+    return out
+
+
 def _scatter(out, index, values, sign=1.0):
     """out[index] += sign · values for (N, 3) ``out`` and (3, M) ``values``, summed with np.bincount."""
     n = len(out)
@@ -238,34 +246,34 @@ class Simulation:
         self.walls.move(dt)
 
     def _ball_ball(self, force, torque) -> float:
-        """Particle–particle contacts: geometry (Eq. 4.1–4.4), force–displacement law, sums onto particles."""
+        """Particle–particle contacts: geometry (Eq. 4.1–4.4), force–displacement law, sums onto particles.
+
+        The NumPy path runs the law on the *live* contacts only, those that overlap or hold a bond: a gap in the
+        Verlet list carries no force and forgets its spring (about half of the list in a dense packing).
+        """
         p, c = self.particles, self.contacts
         if not len(c):
             return self._no_contacts(c)
-        i, j = c.i, c.j
         if self.kernel == "numba":
             r, overlap, n, failed = self._ball_ball_compiled(force, torque)
+            live = slice(None)
+            c.ft, c.fn, c.force = r.ft, r.fn, r.force
         else:
-            d = gather(p.x, j) - gather(p.x, i)
+            d = gather(p.x, c.j) - gather(p.x, c.i)
             if self.periodic is not None:
                 d = self.periodic.minimum_image(d, axis=0)
             dist = np.sqrt(dot(d, d))                                 # Eq. (4.2)
             n = d / dist                                              # Eq. (4.1)
             overlap = self._radius_sum - dist                         # Eq. (4.3)
-            arm_i = self._radius_i - 0.5 * overlap                    # Eq. (4.4): centre to contact point
-            arm_j = self._radius_j - 0.5 * overlap
-            v_rel = gather(p.v, j) - gather(p.v, i) - cross(arm_i * gather(p.w, i) + arm_j * gather(p.w, j), n)
-            r = force_displacement(self.law, c.prm, overlap, n, v_rel, c.ft, self.dt, c.bonded, c.bond_gap,
-                                   c.bond_normal_strength, c.bond_shear_strength, energy=self.track_energy)
-            _scatter(force, j, r.force)                               # B receives +F, A receives −F
-            _scatter(force, i, r.force, -1.0)
-            lever = cross(n, r.force)                                 # moment arm × force: −r' n × F
-            _scatter(torque, i, arm_i * lever, -1.0)
-            _scatter(torque, j, arm_j * lever, -1.0)
+            live = np.flatnonzero((overlap > 0.0) | c.bonded)
+            r = self._live_contact_forces(live, overlap, n, force, torque)
             failed = r.tension_failure.any() or r.shear_failure.any()
-        c.ft, c.overlap, c.normal, c.fn, c.force = r.ft, overlap, n, r.fn, r.force
+            c.ft, c.fn, c.force = (_place(a, live, len(c)) for a in (r.ft, r.fn, r.force))
+        c.overlap, c.normal = overlap, n
+        i, j, overlap, n = c.i[live], c.j[live], overlap[live], n[:, live]
         if failed:
-            self._record_contact_cracks(r, gather(p.x, i) + (self._radius_i - 0.5 * overlap) * n)
+            self._record_contact_cracks(r, i, j, np.arange(len(c))[live],
+                                        gather(p.x, i) + (p.radius[i] - 0.5 * overlap) * n)
         if not self.track_energy:
             return 0.0
         self.energy.friction += r.slip_dissipation
@@ -273,9 +281,29 @@ class Simulation:
             f, lever = r.dashpot_force, cross(n, r.dashpot_force)
             _scatter(self._dashpot[0], j, f)
             _scatter(self._dashpot[0], i, f, -1.0)
-            _scatter(self._dashpot[1], i, (self._radius_i - 0.5 * overlap) * lever, -1.0)
-            _scatter(self._dashpot[1], j, (self._radius_j - 0.5 * overlap) * lever, -1.0)
-        return self._elastic_energy(c, overlap, r)
+            _scatter(self._dashpot[1], i, (p.radius[i] - 0.5 * overlap) * lever, -1.0)
+            _scatter(self._dashpot[1], j, (p.radius[j] - 0.5 * overlap) * lever, -1.0)
+        return self._elastic_energy({k: v[live] for k, v in c.prm.items()}, overlap, c.bonded[live],
+                                    c.bond_gap[live], r)
+
+    def _live_contact_forces(self, live, overlap, n, force, torque) -> ContactForces:
+        """The law on the contacts ``live`` (indices; Eq. 4.4–4.10), their forces and moments summed onto the
+        particles."""
+        p, c = self.particles, self.contacts
+        i, j, U, n = c.i[live], c.j[live], overlap[live], np.take(n, live, axis=1)
+        arm_i = p.radius[i] - 0.5 * U                                 # Eq. (4.4): centre to contact point
+        arm_j = p.radius[j] - 0.5 * U
+        v_rel = gather(p.v, j) - gather(p.v, i) - cross(arm_i * gather(p.w, i) + arm_j * gather(p.w, j), n)
+        bonds = (c.bonded[live], c.bond_gap[live], c.bond_normal_strength[live], c.bond_shear_strength[live]) \
+            if c.bonded.any() else ()
+        r = force_displacement(self.law, {k: v[live] for k, v in c.prm.items()}, U, n, v_rel,
+                               np.take(c.ft, live, axis=1), self.dt, *bonds, energy=self.track_energy)
+        _scatter(force, j, r.force)                                   # B receives +F, A receives −F
+        _scatter(force, i, r.force, -1.0)
+        lever = cross(n, r.force)                                     # moment arm × force: −r' n × F
+        _scatter(torque, i, arm_i * lever, -1.0)
+        _scatter(torque, j, arm_j * lever, -1.0)
+        return r
 
     def _ball_ball_compiled(self, force, torque):
         """The same contact step through the numba kernel (:mod:`abrakit.dem.kernels`)."""
@@ -340,7 +368,7 @@ class Simulation:
             _scatter(self._dashpot[0], j, f)
             _scatter(self._dashpot[1], j, arm * cross(n, f), -1.0)
             self._dashpot_wall += float(np.sum(f * gather(walls.velocity, k)))
-        return self._elastic_energy(c, overlap, r)
+        return self._elastic_energy(c.prm, overlap, c.bonded, c.bond_gap, r)
 
     def _ball_wall_compiled(self, force, torque):
         """The particle–wall step through the numba kernel."""
@@ -381,20 +409,20 @@ class Simulation:
         self.parallel_bonds = new
         return new.energy() if self.track_energy else 0.0
 
-    def _elastic_energy(self, c, overlap, r) -> float:
-        prm = c.prm
+    def _elastic_energy(self, prm, overlap, bonded, bond_gap, r) -> float:
         normal = self.law.normal_energy(overlap, prm)
-        if c.bonded.any():
-            normal = np.where(c.bonded, 0.5 * prm["kn"] * (overlap + c.bond_gap) ** 2, normal)
+        if bonded.any():
+            normal = np.where(bonded, 0.5 * prm["kn"] * (overlap + bond_gap) ** 2, normal)
         kt = np.broadcast_to(r.kt, r.fn.shape)
         shear = np.divide(0.5 * dot(r.ft, r.ft), kt, out=np.zeros_like(r.fn), where=kt > 0)
         return float(np.sum(normal * r.touching) + np.sum(shear))
 
-    def _record_contact_cracks(self, r, point):
-        c = self.contacts
+    def _record_contact_cracks(self, r, i, j, index, point):
+        """Log the bonds that broke in ``r`` (results of the contacts ``index``, pairs ``i``–``j``, contact points
+        ``point``) and unbond them."""
         for mode, mask in (("tension", r.tension_failure), ("shear", r.shear_failure)):
-            self.cracks.record(self.time, point[:, mask].T, c.i[mask], c.j[mask], mode, "contact")
-        c.bonded = c.bonded & ~(r.tension_failure | r.shear_failure)
+            self.cracks.record(self.time, point[:, mask].T, i[mask], j[mask], mode, "contact")
+        self.contacts.bonded[index[r.tension_failure | r.shear_failure]] = False
 
     def _account(self, stored, force, damping_force, damping_torque, v_old, w_old, wall_velocity_old,
                  clump_damping):
@@ -558,7 +586,8 @@ class Simulation:
     # ------------------------------------------------------------------ periodic cell, snapshots
     def branch(self, i, j) -> np.ndarray:
         """Branch vectors x_j − x_i ``(K, 3)`` (nearest periodic images in a periodic cell)."""
-        d = self.particles.x[j] - self.particles.x[i]
+        x = self.particles.x
+        d = np.take(x, j, axis=0) - np.take(x, i, axis=0)          # np.take: twice as fast as x[j] on rows
         return d if self.periodic is None else self.periodic.minimum_image(d)
 
     def strain_cell(self, strain) -> None:
