@@ -213,18 +213,6 @@ class ContactForces(NamedTuple):
     kn: np.ndarray               # (M,) normal tangent stiffness (for time step and servo) [N/m]
     kt: np.ndarray               # (M,) shear stiffness [N/m]
 
-    def spread(self, live, m: int) -> ContactForces:
-        """These results, computed for the contacts ``live`` (indices) of a set of ``m``, placed in the whole set:
-        the other contacts carry no force, no spring and no stiffness."""
-        def place(a):
-            if not isinstance(a, np.ndarray) or a.ndim == 0:
-                return a
-            out = np.zeros(a.shape[:-1] + (m,), a.dtype)
-            out[..., live] = a
-            return out
-
-        return ContactForces(*(place(field) for field in self))
-
 
 def force_displacement(law, prm, overlap, n, v_rel, ft, dt, bonded=None, bond_gap=None,
                        bond_normal_strength=None, bond_shear_strength=None, energy=False) -> ContactForces:
