@@ -72,7 +72,7 @@ def transfer_history(old: ContactSet, new: ContactSet) -> ContactSet:
     pos = np.minimum(pos, len(old) - 1)
     found = old.keys[pos] == new.keys
     src, dst = pos[found], np.flatnonzero(found)
-    for row_new, row_old in zip(new.ft, old.ft):          # row by row: much faster than new.ft[:, dst] = …
+    for row_new, row_old in zip(new.ft, old.ft, strict=True):    # by rows: much faster than new.ft[:, dst] = …
         row_new[dst] = np.take(row_old, src)
     bonded = old.bonded[src]
     if bonded.any():                     # the bond fields are read only where a bond is intact

@@ -83,7 +83,7 @@ def gather(a, index):
 def _place(values, index, m):
     """A (…, m) array that holds ``values`` (…, K) at ``index`` and zeros elsewhere."""
     out = np.zeros(values.shape[:-1] + (m,), values.dtype)
-    for row, part in zip(out.reshape(-1, m), values.reshape(out.size // m, -1)):   # by rows: faster than 2D
+    for row, part in zip(out.reshape(-1, m), values.reshape(out.size // m, -1), strict=True):   # by rows
         row[index] = part
     return out
 

@@ -20,11 +20,20 @@ from .boundary import Constraints, Dirichlet, boundary_dofs, surface_load
 from .kinematics import Kinematics, TotalLagrangianKinematics, vector_basis
 from .linsolve import AMGSolver, DirectSolver, LinearSolveError, pardiso_available
 from .output import load_checkpoint
+from .pathfollow import (
+    ArcLength,
+    DissipationControl,
+    LoadFactorControl,
+    OpeningControl,
+    PathControl,
+    PathFollowingSolver,
+)
 from .solver import NewtonOptions, Solver, SolveResult, StepContext, StepControl, StepFailed, solve
 
 __all__ = [
-    "AMGSolver", "Assembler", "Constraints", "Dirichlet", "DirectSolver", "Kinematics", "LinearSolveError",
-    "NewtonOptions", "SolveResult", "Solver", "StepContext", "StepControl", "StepFailed",
+    "AMGSolver", "ArcLength", "Assembler", "Constraints", "Dirichlet", "DirectSolver", "DissipationControl",
+    "Kinematics", "LinearSolveError", "LoadFactorControl", "NewtonOptions", "OpeningControl", "PathControl",
+    "PathFollowingSolver", "SolveResult", "Solver", "StepContext", "StepControl", "StepFailed",
     "TotalLagrangianKinematics", "boundary_dofs", "demo", "load_checkpoint", "meshes", "pardiso_available",
     "skfem_internal_force", "skfem_tangent", "solve", "surface_load", "vector_basis",
 ]

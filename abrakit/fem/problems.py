@@ -151,3 +151,115 @@ def kirsch_stress(x, y, *, remote_stress, radius):
     return (s_rr * c * c + s_tt * sn * sn - 2 * s_rt * sn * c,
             s_rr * sn * sn + s_tt * c * c + 2 * s_rt * sn * c,
             (s_rr - s_tt) * sn * c + s_rt * (c * c - sn * sn))
+
+
+@dataclass(frozen=True)
+class SofteningBar:
+    """A bar of ``n`` elements, length ``length`` (mm), unit cross-section, pulled at its right end, with the
+    middle element weaker (peak strain ``eps_0``) than the others (``strength`` × ``eps_0``): the classical
+    snap-back test of path following (:mod:`abrakit.fem.pathfollow`). Material
+    :class:`~abrakit.materials.softening.LinearSofteningDamage` with ``nu = 0`` (so the plane-strain strip of
+    ``n × 1`` bilinear elements is exactly one-dimensional).
+
+    Closed form: up to the peak F = E v / L; after it the weak element (size h = L/n) softens while the others
+    unload elastically, so with σ from f_t = E eps_0 down to 0
+
+        v(σ) = h (eps_0 + (f_t − σ)(eps_f − eps_0)/f_t) + (L − h) σ / E,      F = σ,
+
+    which turns back (snap-back) when h (eps_f − eps_0) / f_t < (L − h) / E. The energy dissipated to complete
+    separation is G·A = ½ f_t eps_f h.
+    """
+
+    n: int
+    length: float = 100.0
+    E: float = 1000.0
+    eps_0: float = 1e-3
+    eps_f: float = 2e-2
+    strength: float = 1.5
+
+    def __post_init__(self):
+        check_range("n", self.n, 1, None)
+        check_positive("length", self.length)
+        check_positive("E", self.E)
+        check_range("eps_f", self.eps_f, self.eps_0, None, low_open=True)
+        check_range("strength", self.strength, 1.0, None, low_open=True)
+
+    @property
+    def h(self) -> float:
+        return self.length / self.n
+
+    @property
+    def f_t(self) -> float:
+        return self.E * self.eps_0
+
+    @property
+    def snaps_back(self) -> bool:
+        return self.h * (self.eps_f - self.eps_0) / self.f_t < (self.length - self.h) / self.E
+
+    @property
+    def fracture_energy(self) -> float:
+        """G·A = ½ f_t eps_f h (N mm), the energy dissipated to complete separation."""
+        return 0.5 * self.f_t * self.eps_f * self.h
+
+    @property
+    def peak_displacement(self) -> float:
+        return self.eps_0 * self.length
+
+    def softening_displacement(self, force):
+        """v(F) on the softening branch (mm)."""
+        return (self.h * (self.eps_0 + (self.f_t - force) * (self.eps_f - self.eps_0) / self.f_t)
+                + (self.length - self.h) * force / self.E)
+
+    def force(self, v, branch):
+        """F(v) on the ``branch`` (array of "elastic", "softening" or "broken") of the closed form (N)."""
+        v = np.asarray(v, dtype=float)
+        slope = self.h * (self.eps_f - self.eps_0) / self.f_t - (self.length - self.h) / self.E   # dv/d(−F)
+        branch = np.asarray(branch)
+        return np.select([branch == "elastic", branch == "softening"],
+                         [self.E * v / self.length, self.f_t - (v - self.peak_displacement) / slope], 0.0)
+
+    def branch(self, v, F, tol: float = 1e-6):
+        """The branch a computed point (v, F) lies on: elastic (on the line F = E v/L), broken (F ≈ 0 beyond the
+        peak), otherwise softening."""
+        v, F = np.asarray(v, dtype=float), np.asarray(F, dtype=float)
+        elastic = np.abs(F - self.E * v / self.length) <= tol * self.f_t
+        broken = ~elastic & (np.abs(F) <= tol * self.f_t)
+        return np.select([elastic, broken], ["elastic", "broken"], "softening")
+
+    def solver(self, *, displacement: float | None = None, load: str = "displacement", follow: bool = True,
+               **options):
+        """The bar as a :class:`~abrakit.fem.pathfollow.PathFollowingSolver` (``follow=True``, with the weak
+        element's opening for ``method="opening"``) or a load-controlled :class:`Solver`. ``load="displacement"``:
+        the right end is pulled to ``displacement`` (mm, default 2 eps_f h + the elastic stretch at the peak) at
+        λ = 1; ``load="force"``: a force 2 f_t (N) pulls it at λ = 1. Its force and mean displacement are recorded
+        as ``F_right`` and ``u_right``."""
+        from ..materials.softening import LinearSofteningDamage
+        from .pathfollow import PathFollowingSolver
+
+        mesh = skfem.MeshQuad.init_tensor(np.linspace(0.0, self.length, self.n + 1), np.array([0.0, 1.0]))
+        mesh = mesh.with_boundaries({"left": lambda x: np.isclose(x[0], 0.0),
+                                     "right": lambda x: np.isclose(x[0], self.length),
+                                     "bottom": lambda x: np.isclose(x[1], 0.0)})
+        basis = vector_basis(mesh)
+        weak = np.zeros(mesh.nelements, bool)
+        weak[self.n // 2] = True
+        eps_0 = np.where(weak, self.eps_0, self.strength * self.eps_0)[:, None] * np.ones((1, basis.X.shape[-1]))
+        material = LinearSofteningDamage(self.E, 0.0, eps_0, self.eps_f)
+        if displacement is None:
+            displacement = 2.0 * self.eps_f * self.h + self.peak_displacement
+        conditions = [Dirichlet.on(basis, "left", "x"), Dirichlet.on(basis, "bottom", "y")]
+        if load == "displacement":
+            conditions.append(Dirichlet.on(basis, "right", "x", displacement, name="right"))
+        elif load == "force":
+            f_hat = surface_load(basis, "right", traction=(2.0 * self.f_t, 0.0))
+            options.update(external_force=lambda lam: lam * f_hat,
+                           monitors={"right": basis.get_dofs("right").nodal["u^1"]})
+        else:
+            raise ValueError(f"load must be 'displacement' or 'force', got {load!r}")
+        if not follow:
+            return Solver(basis, material, conditions, **options)
+        nodes = mesh.t[:, self.n // 2]                              # the weak element's opening: right − left
+        x = mesh.p[0, nodes]
+        dofs = basis.nodal_dofs[0, nodes]
+        options.setdefault("opening", (dofs[np.isclose(x, x.max())], dofs[np.isclose(x, x.min())]))
+        return PathFollowingSolver(basis, material, conditions, **options)

@@ -37,7 +37,7 @@ from ..validation import check_positive, check_range
 from .assembly import Assembler
 from .boundary import Constraints, Dirichlet
 from .kinematics import Kinematics
-from .linsolve import LinearSolveError, make_linear_solver, rigid_body_modes
+from .linsolve import DirectSolver, LinearSolveError, make_linear_solver, rigid_body_modes
 from .output import RunWriter
 
 
@@ -160,6 +160,55 @@ class _History:
     rows: list = field(default_factory=list)
 
 
+class _Recorder:
+    """The history of a run: one row per converged step (load factor, time, iterations, monitored displacements
+    and forces, and any ``extra`` columns), written through a :class:`RunWriter` as it goes when ``output`` is
+    given, and turned into a :class:`SolveResult`."""
+
+    def __init__(self, solver: Solver, output, vtu_every: int, extra_columns: Sequence[str] = ()):
+        self.solver = solver
+        self.columns = ["step", "load_factor", "time", "iterations", *extra_columns] + [
+            f"{kind}_{name}" for name in solver.monitors for kind in ("u", "F")]
+        self.output = Path(output) if output is not None else None
+        self.writer = (RunWriter(output, solver.kin.basis.mesh, self.columns, vtu_every)
+                       if output is not None else None)
+        self.nodal = np.asarray(solver.kin.basis.nodal_dofs)
+        self.hist = _History()
+        self.t0 = _time.perf_counter()
+        self.last = None
+
+    def record(self, step, lam, u, f_int, response, state, iterations, residuals, **extra) -> None:
+        duration = self.solver.duration
+        row = {"step": step, "load_factor": lam, "time": lam * duration, "iterations": iterations, **extra}
+        for name, dofs in self.solver.monitors.items():
+            row[f"u_{name}"] = float(np.mean(u[dofs])) if dofs.size else 0.0
+            row[f"F_{name}"] = float(np.sum(f_int[dofs]))
+        hist = self.hist
+        hist.load_factors.append(lam)
+        hist.times.append(lam * duration)
+        hist.iterations.append(iterations)
+        hist.residuals.append(residuals)
+        hist.rows.append(row)
+        self.last = (u, state, response, f_int)
+        if self.writer is not None:
+            self.writer.write_step(row, lam * duration, u, self.nodal, response.stress, state)
+
+    def result(self, cutbacks: int) -> SolveResult:
+        hist = self.hist
+        u, state, response, f_int = self.last
+        curves = {k: np.array([r[k] for r in hist.rows]) for k in self.columns}
+        return SolveResult(np.array(hist.load_factors), np.array(hist.times), np.array(hist.iterations), curves,
+                           u, state, response, f_int, hist.residuals, cutbacks, _time.perf_counter() - self.t0,
+                           self.output)
+
+    def checkpoint(self, u, state, lam) -> Path | None:
+        return self.writer.checkpoint(u, state, lam, lam * self.solver.duration) if self.writer else None
+
+    def close(self) -> None:
+        if self.writer is not None:
+            self.writer.close()
+
+
 class Solver:
     """Quasi-static nonlinear FE problem: kinematics + material + boundary conditions + hooks.
 
@@ -243,6 +292,13 @@ class Solver:
                     u: np.ndarray | None = None) -> np.ndarray:
         """du_I from K_II du_I = −R_I, or with ``lift`` (the prescribed increment Δu_D, zero on free DOFs) from
         K_II du_I = −R_I − K_ID Δu_D: the Dirichlet increment entering through the linear system."""
+        K, K_II = self.tangent(response, extra_K, u)
+        if lift is not None:
+            residual = residual + K @ lift
+        return self.solve_linear(K_II, -residual[self.constraints.free], new_step)
+
+    def tangent(self, response, extra_K, u: np.ndarray | None = None) -> tuple[sp.csr_matrix, sp.csr_matrix]:
+        """The global tangent K of Eq. (4.40) with the hook terms, and its free block K_II (diagonal floored)."""
         cons = self.constraints
         data = self.assembler.tangent_data(response.tangent, u, response.stress)
         # extra terms inside the mesh's pattern (contact blocks on its nodes) keep the pattern, and with it the
@@ -256,8 +312,6 @@ class Solver:
         else:
             K_II = cons.condense(K)
             diag_pos = cons.diagonal_positions
-        if lift is not None:
-            residual = residual + K @ lift
         if not np.all(np.isfinite(K_II.data)):
             raise LinearSolveError("non-finite tangent")
         # a region without stiffness (e.g. fully damaged) must not make K_II singular: floor its diagonal
@@ -270,10 +324,18 @@ class Solver:
                 K_II = K_II.copy()
                 d = K_II.data[diag_pos]
                 K_II.data[diag_pos] = np.where(np.abs(d) < floor, floor, d)
-        rhs = -residual[cons.free]
-        if hasattr(self.linear_solver, "solve"):
-            return self.linear_solver.solve(K_II, rhs, new_step=new_step)
-        return np.asarray(self.linear_solver(K_II, rhs))
+        return K, K_II
+
+    def solve_linear(self, K_II, rhs: np.ndarray, new_step: bool) -> np.ndarray:
+        """x with K_II x = rhs for ``rhs`` ``(n,)`` or ``(n, k)`` (several right-hand sides, one factorisation
+        with a direct solver)."""
+        solver = self.linear_solver
+        if rhs.ndim == 2 and not isinstance(solver, DirectSolver):
+            return np.column_stack([self.solve_linear(K_II, column, new_step and j == 0)
+                                    for j, column in enumerate(rhs.T)])
+        if hasattr(solver, "solve"):
+            return solver.solve(K_II, rhs, new_step=new_step)
+        return np.asarray(solver(K_II, rhs))
 
     # ---- Newton iterations, Eq. (4.38)–(4.41) ----------------------------------------------------------------
     def newton(self, u_trial, state_old, ctx: StepContext, lift: np.ndarray | None = None) -> NewtonResult:
@@ -344,38 +406,21 @@ class Solver:
 
         check_range("end", end, start, None, low_open=True)
         ctrl, kin, cons = self.control, self.kin, self.constraints
-        t0 = _time.perf_counter()
         state = state0 if state0 is not None else self.material.initial_state((kin.nel, kin.nqp))
         u = cons.apply(np.zeros(kin.ndof) if u0 is None else u0, start)
         ctx0 = StepContext(0, start, 0.0, start * self.duration, 0.0, 0, u, u, state, np.zeros(kin.ndof))
         response, _, f_int, _, _ = self.evaluate(u, state, ctx0)  # the start state, for the record only
-        hist = _History()
-        columns = ["step", "load_factor", "time", "iterations"] + [
-            f"{kind}_{name}" for name in self.monitors for kind in ("u", "F")]
-        writer = RunWriter(output, kin.basis.mesh, columns, vtu_every) if output is not None else None
-        nodal = np.asarray(kin.basis.nodal_dofs)
+        recorder = _Recorder(self, output, vtu_every)
+        cutbacks = 0
 
         def record(step, lam, iterations, residuals):
-            row = {"step": step, "load_factor": lam, "time": lam * self.duration, "iterations": iterations}
-            for name, dofs in self.monitors.items():
-                row[f"u_{name}"] = float(np.mean(u[dofs])) if dofs.size else 0.0
-                row[f"F_{name}"] = float(np.sum(f_int[dofs]))
-            hist.load_factors.append(lam)
-            hist.times.append(lam * self.duration)
-            hist.iterations.append(iterations)
-            hist.residuals.append(residuals)
-            hist.rows.append(row)
-            if writer is not None:
-                writer.write_step(row, lam * self.duration, u, nodal, response.stress, state)
+            recorder.record(step, lam, u, f_int, response, state, iterations, residuals)
 
         def result():
-            curves = {k: np.array([r[k] for r in hist.rows]) for k in columns}
-            return SolveResult(np.array(hist.load_factors), np.array(hist.times), np.array(hist.iterations),
-                               curves, u, state, response, f_int, hist.residuals, cutbacks,
-                               _time.perf_counter() - t0, Path(output) if output is not None else None)
+            return recorder.result(cutbacks)
 
         record(0, start, 0, [])
-        lam, delta, easy, cutbacks, step = start, min(ctrl.initial, end - start), 0, 0, 0
+        lam, delta, easy, step = start, min(ctrl.initial, end - start), 0, 0
         u_prev, delta_prev = None, None
         bar = tqdm(total=end - start, disable=not progress, unit="λ", bar_format="{l_bar}{bar}| λ={n:.4f}/{total}")
         try:
@@ -398,7 +443,7 @@ class Solver:
                     easy = 0
                     delta *= ctrl.cutback
                     if delta < ctrl.minimum * (1 - 1e-12):
-                        checkpoint = writer.checkpoint(u, state, lam, lam * self.duration) if writer else None
+                        checkpoint = recorder.checkpoint(u, state, lam)
                         where = f"; saved to {checkpoint}" if checkpoint else ""
                         raise StepFailed(
                             f"load step from λ={lam:.6g} failed: {failure.reason}; the step size was cut back to "
@@ -419,8 +464,7 @@ class Solver:
                     delta, easy = min(delta * ctrl.growth, ctrl.maximum), 0
         finally:
             bar.close()
-            if writer is not None:
-                writer.close()
+            recorder.close()
         return result()
 
 

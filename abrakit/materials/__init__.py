@@ -33,6 +33,7 @@ from .finite_strain import LogStrainPlasticity
 from .model_one import ModelIDamage
 from .model_two import ModelIIDamage, effective_damage_function, erve_strains
 from .plasticity import VonMisesPlasticity, plastic_step, uniaxial_hardening_modulus, uniaxial_yield_stress
+from .softening import LinearSofteningDamage
 
 #: Table 7.1, Model I (MPa; beta in MPa mm^2: 0.1 almost local, 1 regularised).
 TABLE_7_1 = {"E": 200000.0, "nu": 0.33, "r_d": 0.05, "r_p": 60.0, "K_H": 8000.0, "beta": 0.1}
@@ -46,6 +47,7 @@ __all__ = [
     "TABLE_7_2",
     "DriverError",
     "LinearElastic",
+    "LinearSofteningDamage",
     "LogStrainPlasticity",
     "Material",
     "MaterialResponse",
