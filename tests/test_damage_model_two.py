@@ -202,3 +202,28 @@ def test_default_material_is_table_7_2():
 def test_demo_runs():
     text = demo()
     assert "Model II" in text and "peak force" in text
+
+
+def test_arc_length_follows_model_two_to_fracture_like_displacement_control(reference):
+    """Model II under Crisfield's arc length (the rate limit on |work|): the same peak as the displacement-
+    controlled reference to 1 %, fracture without a cutback, and the energy budget closes at least as well."""
+    from abrakit.fem import PathControl
+
+    res = run_model_two(double_notched(300), 0.005, stop_fraction=0.1, method="arc-length",
+                        path=PathControl(initial=0.01, maximum=0.01, target_iterations=8, max_steps=400))
+    assert res.status == "fractured" and res.cutbacks == 0
+    assert res.peak()[0] == pytest.approx(reference.peak()[0], rel=1e-2)
+    assert res.dissipated_energy == pytest.approx(reference.dissipated_energy, rel=0.1)
+    assert abs(res.curves["energy_error"][-1]) <= abs(reference.curves["energy_error"][-1])
+
+
+def test_dissipation_control_unloads_an_elastoplastic_specimen_instead_of_damaging_it():
+    """The hard case the path follower documents: with plastic (not secant) unloading, the released energy
+    G = ½ (P0 Δv − v0 ΔP) is positive on elastic unloading, so dissipation control may follow unloading: the load
+    falls, the displacement goes back, and almost nothing is dissipated by damage."""
+    from abrakit.fem import PathControl
+
+    res = run_model_two(double_notched(300), 0.005, stop_fraction=0.05, method="dissipation",
+                        path=PathControl(initial=0.01, maximum=0.01, target_iterations=8, max_steps=200))
+    u = res.curves["u"]
+    assert u[-1] < u.max() and res.curves["damage_dissipation"][-1] < 0.01 * res.curves["external_work"].max()

@@ -191,7 +191,8 @@ class _Bookkeeping:
 
 
 def model_two_solver(basis, material: ModelIIDamage, dirichlet, *, force_scale: float = 1.0, steps: int = 200,
-                     control=None, newton=None, linear_solver="auto", end: float = 1.0):
+                     control=None, newton=None, linear_solver="auto", end: float = 1.0, path=None,
+                     method: str = "dissipation"):
     """:class:`abrakit.fem.Solver` with the Model II rate limit in its ``loading`` hook (see the module docstring).
 
     ``steps`` equal load increments over ``[0, end]`` unless ``control`` is given: cutbacks by 1/4 down to
@@ -199,20 +200,30 @@ def model_two_solver(basis, material: ModelIIDamage, dirichlet, *, force_scale: 
     8 Newton iterations. (The damage rule switches sub-domains on and off between iterates, so Model II steps
     often need 5-8 iterations; with the solver's default "easy" limit of 4 a single cutback at a damage jump
     would leave the rest of the run at the small increment.)
+
+    ``path`` (a :class:`~abrakit.fem.PathControl`): a :class:`~abrakit.fem.PathFollowingSolver` with ``method``
+    instead. The load factor is then an unknown and may fall (snap-back), where the reactions do negative work
+    over the increment; the rate limit takes the magnitude of that work, ``|s sum_D du_D f*_D^m|``: the damage of
+    a step is bounded by the energy exchanged at the loaded boundary, whichever way it flows.
     """
-    from ..fem import Solver, StepControl
+    from ..fem import PathFollowingSolver, Solver, StepControl
 
     steps = int(check_range("steps", steps, 1, None))
     if control is None:
         step = end / steps
         control = StepControl(initial=step, maximum=step, minimum=step * 1e-3, growth=2.0, easy_iterations=8,
                               easy_steps=1)
-    solver = Solver(basis, material, dirichlet, control=control, newton=newton, linear_solver=linear_solver)
+    if path is None:
+        solver = Solver(basis, material, dirichlet, control=control, newton=newton, linear_solver=linear_solver)
+    else:
+        solver = PathFollowingSolver(basis, material, dirichlet, newton=newton, linear_solver=linear_solver,
+                                     method=method, path=path)
     prescribed = solver.constraints.prescribed
     scale = check_positive("force_scale", force_scale)
+    magnitude = abs if path is not None else float
 
     def loading(ctx):
-        return {"external_work": rate_limit_work(ctx.u, ctx.u_old, ctx.f_int_old, prescribed, scale)}
+        return {"external_work": magnitude(rate_limit_work(ctx.u, ctx.u_old, ctx.f_int_old, prescribed, scale))}
 
     solver.loading = loading
     return solver
@@ -221,7 +232,8 @@ def model_two_solver(basis, material: ModelIIDamage, dirichlet, *, force_scale: 
 def run_model_two(specimen, alpha: float = 0.05, *, material: ModelIIDamage | None = None, steps: int = 200,
                   end: float = 1.0, stop_fraction: float | None = None, output: str | Path | None = None,
                   vtu_every: int = 0, control=None, newton=None, linear_solver="auto", progress: bool = False,
-                  on_step: Callable[[ModelTwoResult], None] | None = None) -> ModelTwoResult:
+                  on_step: Callable[[ModelTwoResult], None] | None = None, path=None,
+                  method: str = "dissipation") -> ModelTwoResult:
     """Load ``specimen`` (:mod:`abrakit.damage.specimens`) with Model II: Algorithm 2 at every quadrature point.
 
     Parameters
@@ -234,6 +246,9 @@ def run_model_two(specimen, alpha: float = 0.05, *, material: ModelIIDamage | No
     output : directory for the curves, VTU fields (every ``vtu_every`` steps, 0: last step only), summary and
         checkpoint; ``None`` writes nothing.
     on_step : called with the partial result after every converged step.
+    path, method : path following (a :class:`~abrakit.fem.PathControl` and the constraint method of
+        :class:`~abrakit.fem.PathFollowingSolver`) instead of ``steps`` equal displacement increments; see
+        :func:`model_two_solver` for the rate limit under path following.
     """
     from ..fem import StepFailed
     from ..fem.output import cell_fields, meshio_cells, save_checkpoint
@@ -243,7 +258,8 @@ def run_model_two(specimen, alpha: float = 0.05, *, material: ModelIIDamage | No
         check_range("stop_fraction", stop_fraction, 0.0, 1.0, low_open=True, high_open=True)
     vtu_every = int(check_range("vtu_every", vtu_every, 0, None))
     solver = model_two_solver(specimen.basis, material, specimen.dirichlet, force_scale=specimen.force_scale,
-                              steps=steps, control=control, newton=newton, linear_solver=linear_solver, end=end)
+                              steps=steps, control=control, newton=newton, linear_solver=linear_solver, end=end,
+                              path=path, method=method)
     kin, scale = solver.kin, specimen.force_scale
     dx = kin.dx
     prescribed = solver.constraints.prescribed
@@ -346,7 +362,10 @@ def run_model_two(specimen, alpha: float = 0.05, *, material: ModelIIDamage | No
     status, message, checkpoint = "end", "", None
     try:
         book.clock = _time.perf_counter()
-        solve = solver.run(end=end, state0=start_state, progress=progress, on_step=after_step, output=None)
+        if path is None:
+            solve = solver.run(end=end, state0=start_state, progress=progress, on_step=after_step, output=None)
+        else:
+            solve = solver.run(end=end, progress=progress, on_step=after_step, output=None)
     except _Stop:
         solve = book.last
         status = "fractured"

@@ -37,9 +37,12 @@ structure unloads elastically: G ≤ 0 along the tangent) it switches back to lo
 constraint can be chosen instead (``method="arc-length"``). A failed step is retried with the target cut back,
 as in :class:`~abrakit.fem.Solver`.
 
-The constraints need materials whose tangent is consistent: the staggered damage update of Model I (damage after
-the displacement iterations) is not part of the Newton system, so the dissipation of a step is not a function of
-(u, λ) that the constraint can steer; see the damage chapters.
+Limits, measured (``tests/test_damage_model_two.py``): G is the dissipated energy only where unloading is secant.
+With plasticity, elastic unloading from a plastic state also has G > 0, so dissipation control may follow an
+unloading branch instead of damaging (Model II on the double notch does); arc length or opening control follow such
+materials (Model II under arc length reaches the displacement-controlled peak to 0.2 %). The staggered damage update
+of Model I (damage after the displacement iterations) is not part of the Newton system, so no constraint can steer
+its damage.
 """
 
 from __future__ import annotations
