@@ -187,3 +187,20 @@ def test_huge_stiffness_ratio_is_stable():
     sim.run(3000)
     e = energy_balance(sim)
     assert abs(e["relative_error"]) < 1e-2 and e["kinetic"] < 2 * e["initial"]
+
+
+def test_allowed_unstable_step_is_kept_with_one_warning_and_then_stopped():
+    """``dt_policy="allow"`` keeps a step above the critical one (to study the instability) and warns once; the
+    diverging pair leaves its domain within a few dozen steps and the run stops with a clear error."""
+    from abrakit.dem import ParticleEscapeError, install_contact_bonds
+
+    p = Particles.spheres([[0, 0, 0], [0.02, 0, 0]], 0.01, 2650.0, kn=2e5, v=[[0, 0, 0], [0.01, 0, 0]])
+    dt = 3.0 * np.sqrt(p.mass[0] / 2 / 1e5)
+    with pytest.warns(RuntimeWarning, match="allow") as record:
+        sim = Simulation(p, skin=0.001, dt=dt, dt_policy="allow", domain=((-1, -1, -1), (1, 1, 1)))
+        install_contact_bonds(sim, 1e30, 1e30)
+        sim.rebuild()
+        assert sim.dt == dt
+        with pytest.raises(ParticleEscapeError, match="left the domain"):
+            sim.run(200, progress=False)
+    assert sum("allow" in str(w.message) for w in record) == 1

@@ -9,7 +9,8 @@ packings from ``np.random.default_rng(seed)``).
 Time step. ``dt=None`` (default) chooses Δt = ``safety`` · Δt_crit and re-evaluates it whenever the neighbour list
 is rebuilt (contacts appear, Hertz contacts stiffen). A user-given ``dt`` above Δt_crit is refused with a
 :class:`TimeStepError` (``dt_policy="raise"``) or replaced by ``safety`` · Δt_crit with a warning
-(``dt_policy="reduce"``); it is never run silently unstable.
+(``dt_policy="reduce"``); it is never run silently unstable. ``dt_policy="allow"`` keeps it, with one warning: for
+studying the instability itself (the exercise of the DEM chapter).
 """
 
 from __future__ import annotations
@@ -132,7 +133,8 @@ class Simulation:
         self.walls = Walls() if walls is None else walls
         self.gravity = np.asarray(check_finite("gravity", gravity), float).reshape(3)
         self.safety = check_range("safety", safety, 0.0, 1.0, low_open=True)
-        self.dt_policy = check_option("dt_policy", dt_policy, ("raise", "reduce"))
+        self.dt_policy = check_option("dt_policy", dt_policy, ("raise", "reduce", "allow"))
+        self._warned_unstable = False
         self.local_damping = check_range("local_damping", local_damping, 0.0, 1.0, high_open=True)
         self.skin = 0.2 * float(np.mean(particles.radius)) if skin is None else check_positive("skin", skin)
         if domain is not None:
@@ -576,6 +578,12 @@ class Simulation:
                 raise TimeStepError(
                     f"dt = {self._dt:.4g} s exceeds the critical time step {dt_crit:.4g} s (seed 002 Eq. 11, 12); "
                     f"use dt <= {self.safety * dt_crit:.4g} s, dt=None (automatic) or dt_policy='reduce'")
+            if self.dt_policy == "allow":
+                if not self._warned_unstable:
+                    warnings.warn(f"dt = {self._dt:.4g} s exceeds the critical time step {dt_crit:.4g} s and is kept "
+                                  "(dt_policy='allow'): the run may become unstable", RuntimeWarning, stacklevel=3)
+                    self._warned_unstable = True
+                return dt_crit
             warnings.warn(f"dt = {self._dt:.4g} s exceeds the critical time step {dt_crit:.4g} s; reduced to "
                           f"{self.safety * dt_crit:.4g} s", RuntimeWarning, stacklevel=3)
             self._dt = self.safety * dt_crit
