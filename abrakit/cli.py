@@ -44,7 +44,10 @@ def run_demos(names=None, out=sys.stdout) -> dict[str, float]:
 
 
 def main(argv=None) -> int:
+    from abrakit import __version__
+
     parser = argparse.ArgumentParser(prog="abrakit", description=__doc__)
+    parser.add_argument("--version", action="version", version=f"abrakit {__version__}")
     sub = parser.add_subparsers(dest="command", required=True)
     demo = sub.add_parser("demo", help="run one small scene of each chapter")
     demo.add_argument("names", nargs="*", help=f"chapters to run (default all): {', '.join(DEMOS)}")

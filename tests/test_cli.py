@@ -20,3 +20,18 @@ def test_unknown_demo_is_refused():
     with pytest.raises(SystemExit):
         cli.main(["demo", "nope"])
     assert cli.main(["list"]) == 0
+
+
+def test_version_is_the_package_version(capsys):
+    from pathlib import Path
+
+    tomllib = pytest.importorskip("tomllib")             # Python >= 3.11
+
+    from abrakit import __version__
+
+    project = tomllib.loads((Path(__file__).parent.parent / "pyproject.toml").read_text())["project"]
+    assert __version__ == project["version"]
+    with pytest.raises(SystemExit) as exit_:
+        cli.main(["--version"])
+    assert exit_.value.code == 0 and capsys.readouterr().out.strip() == f"abrakit {__version__}"
+    assert (Path(__file__).parent.parent / "LICENSE").read_text().startswith(f"{project['license']} License")
