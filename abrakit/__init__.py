@@ -1,3 +1,19 @@
-"""abrakit: the abrasive-wear modelling chain of Hoormazdi (2021), readable and verified."""
+"""abrakit: the abrasive-wear modelling chain of Hoormazdi (2021), readable and verified.
+
+The chapters' modules load on first use (``abrakit.dem``, ``abrakit.fem``, ...), so ``import abrakit`` stays cheap.
+"""
+
+import importlib
 
 __version__ = "0.1.0"
+
+#: The subpackages and modules reachable as attributes of the package.
+MODULES = ("tensors", "evolution", "identification", "dem", "experiments", "materials", "fem", "damage", "scratch",
+           "wear", "validation", "io", "cli")
+__all__ = ["__version__", *MODULES]
+
+
+def __getattr__(name):
+    if name in MODULES:
+        return importlib.import_module(f"{__name__}.{name}")
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")

@@ -35,3 +35,12 @@ def test_version_is_the_package_version(capsys):
         cli.main(["--version"])
     assert exit_.value.code == 0 and capsys.readouterr().out.strip() == f"abrakit {__version__}"
     assert (Path(__file__).parent.parent / "LICENSE").read_text().startswith(f"{project['license']} License")
+
+
+def test_every_chapter_module_is_an_attribute_of_the_package():
+    import abrakit
+
+    for name in abrakit.MODULES:
+        assert getattr(abrakit, name).__name__ == f"abrakit.{name}"
+    with pytest.raises(AttributeError, match="no attribute"):
+        abrakit.nonexistent
