@@ -43,4 +43,4 @@ def test_every_chapter_module_is_an_attribute_of_the_package():
     for name in abrakit.MODULES:
         assert getattr(abrakit, name).__name__ == f"abrakit.{name}"
     with pytest.raises(AttributeError, match="no attribute"):
-        abrakit.nonexistent
+        _ = abrakit.nonexistent
