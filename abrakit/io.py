@@ -10,6 +10,7 @@ from __future__ import annotations
 import csv
 import json
 import os
+import tempfile
 from pathlib import Path
 
 import numpy as np
@@ -29,12 +30,16 @@ def jsonable(obj):
 
 
 def write_json(path, data) -> Path:
-    """Write ``data`` (dicts, lists, numpy values) as indented JSON, atomically."""
+    """Write ``data`` (dicts, lists, numpy values) as indented JSON, atomically: into a temporary file of a unique
+    name beside it, then renamed over it, so two processes writing the same file never mix their bytes (the last
+    rename wins, and a reader sees one whole version)."""
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
-    tmp = path.with_suffix(path.suffix + ".tmp")
-    tmp.write_text(json.dumps(jsonable(data), indent=2))
-    os.replace(tmp, path)
+    text = json.dumps(jsonable(data), indent=2)
+    with tempfile.NamedTemporaryFile("w", dir=path.parent, prefix=f".{path.name}.", suffix=".tmp",
+                                     delete=False) as handle:
+        handle.write(text)
+    os.replace(handle.name, path)
     return path
 
 

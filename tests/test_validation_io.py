@@ -62,3 +62,33 @@ def test_json_and_vtu_series(tmp_path):
 
     m = meshio.read(tmp_path / "fields" / "step_00001.vtu")
     np.testing.assert_allclose(m.point_data["u"], pts)
+
+
+def _write_many(path, tag, count):
+    from abrakit.io import write_json
+
+    for k in range(count):
+        write_json(path, {"writer": tag, "k": k, "payload": list(range(2000))})
+
+
+def test_two_processes_writing_one_json_file_leave_it_whole(tmp_path):
+    """Concurrent writers of the same result file: every read sees one complete version, no temporary is left."""
+    import multiprocessing
+
+    from abrakit.io import read_json
+
+    path = tmp_path / "case.json"
+    context = multiprocessing.get_context("spawn")
+    workers = [context.Process(target=_write_many, args=(path, tag, 60)) for tag in ("a", "b")]
+    for w in workers:
+        w.start()
+    seen = 0
+    while any(w.is_alive() for w in workers):
+        if path.exists():
+            data = read_json(path)                       # a torn file would raise here
+            assert data["writer"] in ("a", "b") and len(data["payload"]) == 2000
+            seen += 1
+    for w in workers:
+        w.join()
+        assert w.exitcode == 0
+    assert read_json(path)["k"] == 59 and not list(tmp_path.glob("*.tmp"))
