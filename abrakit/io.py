@@ -2,6 +2,7 @@
 
 - :class:`CurveWriter` appends one CSV row per step and flushes it at once.
 - :func:`write_json` writes atomically (temporary file, then rename).
+- :func:`progress_bar` is the one tqdm bar every long run shows.
 - :class:`VtuSeries` writes one ``.vtu`` per step with meshio and keeps a ParaView ``.pvd`` index current.
 """
 
@@ -27,6 +28,17 @@ def jsonable(obj):
     if isinstance(obj, np.generic):
         return obj.item()
     return obj
+
+
+def progress_bar(iterable=None, **kwargs):
+    """A tqdm progress bar: the notebook widget where ipywidgets is installed, the text bar otherwise (tqdm.auto
+    without ipywidgets warns "IProgress not found" into every notebook that imports it)."""
+    try:
+        import ipywidgets  # noqa: F401
+        from tqdm.auto import tqdm
+    except ImportError:
+        from tqdm.std import tqdm
+    return tqdm(iterable, **kwargs)
 
 
 def write_json(path, data) -> Path:

@@ -20,7 +20,6 @@ import warnings
 from dataclasses import dataclass
 
 import numpy as np
-from tqdm.auto import tqdm
 
 from abrakit.dem.bonds import CrackLog, ParallelBonds, parallel_bond_update
 from abrakit.dem.clumps import make_clumps
@@ -29,6 +28,7 @@ from abrakit.dem.integrate import critical_time_step, leapfrog, local_damping, p
 from abrakit.dem.neighbours import VerletList, candidate_pairs, transfer_history, wall_candidates
 from abrakit.dem.state import ContactSet, Particles, pair_keys
 from abrakit.dem.walls import Walls
+from abrakit.io import progress_bar
 from abrakit.validation import check_finite, check_option, check_positive, check_range
 
 __all__ = ["EnergyAccount", "ParticleEscapeError", "Simulation", "TimeStepError"]
@@ -672,7 +672,7 @@ class Simulation:
         """
         steps = int(steps)
         disable = (steps < 20_000 or None) if progress is None else not progress
-        for s in tqdm(range(steps), desc=desc, disable=disable, mininterval=1.0):
+        for s in progress_bar(range(steps), desc=desc, disable=disable, mininterval=1.0):
             self.step()
             if callback is not None and ((s + 1) % every == 0 or s == steps - 1):
                 callback(self)

@@ -36,6 +36,7 @@ from abrakit.dem import love_weber_stress
 from abrakit.dem.contact_laws import rowdot
 from abrakit.dem.measure import contact_counts
 from abrakit.experiments.specimen import Material, Specimen
+from abrakit.io import progress_bar
 from abrakit.validation import check_option, check_positive, check_range
 
 __all__ = [
@@ -236,8 +237,10 @@ def compression_test(sim, confinement: float, *, strain_rate: float, max_strain:
     every = max(steps // records, 1)
     rows, times, cracks, sliding = [], [], [], []
     peak = 0.0
+    bar = progress_bar(total=steps, desc="compression", unit="step", disable=not progress)   # one bar per test
     for _ in range(0, steps, every):
-        sim.run(every, progress=progress)
+        sim.run(every, progress=False)
+        bar.update(every)
         reading = gauges.read(sim)
         rows.append(reading)
         times.append(sim.time)
@@ -247,6 +250,7 @@ def compression_test(sim, confinement: float, *, strain_rate: float, max_strain:
         peak = max(peak, abs(deviator))
         if stop_drop is not None and peak > 0 and abs(deviator) < stop_drop * peak and len(rows) > 5:
             break
+    bar.close()
     walls.velocity[[bottom, top]] = 0.0
     names = ("sigma_axial", "sigma_lateral", "eps_axial", "eps_lateral")
     schemes = {s: {n: np.array([r[s][k] for r in rows]) for k, n in enumerate(names)} for s in SCHEMES}

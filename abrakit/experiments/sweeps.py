@@ -44,9 +44,7 @@ from collections.abc import Callable, Iterable, Mapping
 from datetime import datetime, timezone
 from pathlib import Path
 
-from tqdm.auto import tqdm
-
-from abrakit.io import jsonable, read_json, write_json
+from abrakit.io import jsonable, progress_bar, read_json, write_json
 from abrakit.validation import check_option
 
 __all__ = ["case_key", "canonical_params", "load_sweep", "run_sweep"]
@@ -211,7 +209,7 @@ def run_sweep(case_fn: Callable[[dict], Mapping], params_list: Iterable[Mapping]
         mapper = _MAPPERS[backend]
         jobs = list(pending.items())
         catch = errors == "record"
-        bar = tqdm(total=len(jobs), desc=f"sweep ({backend})", disable=not progress)
+        bar = progress_bar(total=len(jobs), desc=f"sweep ({backend})", disable=not progress)
         for record in mapper(case_fn, jobs, catch, n_jobs, scheduler_address):
             key = record["key"]
             failed = directory / f"{key}.failed.json"

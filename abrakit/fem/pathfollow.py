@@ -56,6 +56,7 @@ import numpy as np
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
+from ..io import progress_bar
 from ..validation import check_option, check_positive, check_range
 from .linsolve import LinearSolveError
 from .solver import NewtonFailure, Solver, SolveResult, StepContext, StepFailed, _Recorder
@@ -394,8 +395,6 @@ class PathFollowingSolver(Solver):
         ``stop_force`` times its peak (e.g. 0.01: until the specimen carries 1 % of its peak load), or
         ``path.max_steps`` steps. Curves gain the columns ``constraint`` (0 load factor, 1 dissipation, 2 arc
         length, 3 opening), ``v``, ``P`` and ``released`` (G of the step)."""
-        from tqdm import tqdm
-
         check_range("stop_force", stop_force, 0.0, 1.0, high_open=True)
         ctrl, kin = self.path, self.kin
         state = self.material.initial_state((kin.nel, kin.nqp))
@@ -412,7 +411,7 @@ class PathFollowingSolver(Solver):
         else:
             constraint = LoadFactorControl(ctrl.initial)
         firsts, previous, last_dlam = {}, None, ctrl.initial       # firsts: each constraint's first target
-        bar = tqdm(total=ctrl.max_steps, disable=not progress, unit="step")
+        bar = progress_bar(total=ctrl.max_steps, disable=not progress, unit="step")
         try:
             for step in range(1, ctrl.max_steps + 1):
                 if isinstance(constraint, LoadFactorControl):

@@ -32,6 +32,7 @@ from typing import Any
 import numpy as np
 import scipy.sparse as sp
 
+from ..io import progress_bar
 from ..materials.base import Material
 from ..validation import check_positive, check_range
 from .assembly import Assembler
@@ -402,8 +403,6 @@ class Solver:
         ``last_converged.npz``; ``vtu_every=0`` disables field output. ``on_step`` is called after every
         converged step with the (partial) result.
         """
-        from tqdm import tqdm
-
         check_range("end", end, start, None, low_open=True)
         ctrl, kin, cons = self.control, self.kin, self.constraints
         state = state0 if state0 is not None else self.material.initial_state((kin.nel, kin.nqp))
@@ -422,7 +421,8 @@ class Solver:
         record(0, start, 0, [])
         lam, delta, easy, step = start, min(ctrl.initial, end - start), 0, 0
         u_prev, delta_prev = None, None
-        bar = tqdm(total=end - start, disable=not progress, unit="λ", bar_format="{l_bar}{bar}| λ={n:.4f}/{total}")
+        bar = progress_bar(total=end - start, disable=not progress, unit="λ",
+                           bar_format="{l_bar}{bar}| λ={n:.4f}/{total}")
         try:
             while lam < end - 1e-12 * max(1.0, abs(end)):
                 delta = min(delta, end - lam)
