@@ -19,7 +19,9 @@ test-all: $(STAMP)
 	$(BIN)/python -m pytest -q -m ""
 
 book: $(STAMP)
+	$(BIN)/python book/cache_key.py
 	$(BIN)/jupyter-book build --warningiserror --keep-going book
+	$(BIN)/python book/check_offline.py
 	@echo "book built: book/_build/html/index.html"
 
 demo: $(STAMP)

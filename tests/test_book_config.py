@@ -1,0 +1,28 @@
+"""The book's configuration: MathJax ships with it (equations render offline), and the offline check finds
+external scripts."""
+
+from pathlib import Path
+
+import yaml
+
+BOOK = Path(__file__).resolve().parent.parent / "book"
+
+
+def test_mathjax_is_vendored_with_its_fonts():
+    config = yaml.safe_load((BOOK / "_config.yml").read_text())["sphinx"]["config"]
+    assert "_static" in config["html_static_path"]
+    script = BOOK / "_static" / config["mathjax_path"]
+    assert script.is_file() and script.stat().st_size > 1_000_000
+    assert list((BOOK / "_static/mathjax/output/chtml/fonts/woff-v2").glob("MathJax_Main-Regular.woff"))
+
+
+def test_offline_check_finds_a_cdn_script(tmp_path):
+    import importlib.util
+
+    spec = importlib.util.spec_from_file_location("check_offline", BOOK / "check_offline.py")
+    check = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(check)
+    (tmp_path / "a.html").write_text('<script defer src="https://cdn.example.org/x.js"></script>'
+                                     '<script src="_static/local.js"></script>')
+    (tmp_path / "b.html").write_text('<link rel="stylesheet" href="_static/theme.css">')
+    assert check.external_references(tmp_path) == {"a.html": {"https://cdn.example.org/x.js"}}
