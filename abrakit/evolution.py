@@ -13,9 +13,10 @@ solved numerically here for any Ψ and D (:func:`variational_update`) and in clo
 Units: any consistent set; the book uses MPa and s, so Ψ, p and r1 are in MPa, D in MPa/s, r2 in MPa·s,
 λ̇ in 1/s and Δt in s.
 
-Decisions (``REFERENCE.md``): Eq. (2.112)'s switch "|p| > r2" is a misprint for "|p| > r1"; Eq. (4.53) is read
-as λ^{m+1} = λ^m + Δt/r2 · [|p(ε^{m+1}, λ^m)| - r1]_+. For a driving force that can change sign (plasticity)
-the rate carries sgn(p), which the seed omits because its damage driving force is never negative.
+Decisions (stated in the book's chapter on evolution laws): Eq. (2.112)'s switch "|p| > r2" is a misprint for
+"|p| > r1"; Eq. (4.53) is read as λ^{m+1} = λ^m + Δt/r2 · [|p(ε^{m+1}, λ^m)| - r1]_+. For a driving force that
+can change sign (plasticity) the rate carries sgn(p), which the seed omits because its damage driving force is never
+negative.
 """
 
 from __future__ import annotations
@@ -492,7 +493,8 @@ class Plasticity1D(_Model1D):
     """1D plasticity with linear isotropic hardening: Ψ = ½ E (ε - εp)² + ½ K α², α̇ = |ε̇p|.
 
     ``E``, ``K`` [MPa]. Driving force p = -∂Ψ/∂εp = E (ε - εp) = σ (Eq. 2.76); the hardening force -∂Ψ/∂α = -Kα
-    raises the threshold, Φ = |p| - (r1 + K α) (Eq. 2.108; compare Φp of Table 6.1 with "+", REFERENCE.md).
+    raises the threshold, Φ = |p| - (r1 + K α) (Eq. 2.108; compare Φp of Table 6.1, read with "+": see
+    :mod:`abrakit.materials.plasticity`).
     """
 
     E: float

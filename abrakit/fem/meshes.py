@@ -1,7 +1,7 @@
 """Structured, graded meshes of the specimens in Ch. 7–8, built with numpy and scikit-fem only.
 
-All lengths in mm. The seed's figures with the dimensions are missing (see REFERENCE.md), so the defaults below
-are choices, stated in each docstring; every generator takes the dimensions as arguments.
+All lengths in mm. The seed's figures do not give all the dimensions of its specimens, so the defaults below are
+choices, stated in each docstring and in the book's FEM chapter; every generator takes the dimensions as arguments.
 
 - :func:`plate_with_hole` — quarter of a plate with a central circular hole, graded towards the hole (Ch. 7.1.1).
 - :func:`double_notched_specimen` — strip with two asymmetric edge notches (Ch. 7.1.2, 7.2.2).
