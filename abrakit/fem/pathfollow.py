@@ -411,7 +411,7 @@ class PathFollowingSolver(Solver):
         else:
             constraint = LoadFactorControl(ctrl.initial)
         firsts, previous, last_dlam = {}, None, ctrl.initial       # firsts: each constraint's first target
-        bar = progress_bar(total=ctrl.max_steps, disable=not progress, unit="step")
+        bar = progress_bar(disable=not progress, unit="step", desc="path following")   # the end is not known
         try:
             for step in range(1, ctrl.max_steps + 1):
                 if isinstance(constraint, LoadFactorControl):
