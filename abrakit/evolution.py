@@ -198,7 +198,7 @@ def variational_update(
     on_nonconvex: str = "warn",
     max_expansions: int = 60,
 ):
-    """λ_{m+1} = argmin_λ Ψ(ε_{m+1}, λ, *args) + Δt D((λ - λ_m)/Δt), the time-discrete PMDP (Eq. 2.104).
+    """``λ_{m+1} = argmin_λ Ψ(ε_{m+1}, λ, *args) + Δt D((λ - λ_m)/Δt)``, the time-discrete PMDP (Eq. 2.104).
 
     ``free_energy(eps, lam, *args)`` is any Ψ [MPa] vectorised in ``lam``; ``eps``, ``lam_m``, ``args`` and
     ``width`` broadcast together (one scalar λ per material point). Per point the search:

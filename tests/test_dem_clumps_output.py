@@ -11,6 +11,7 @@ from abrakit.dem import (
     VtuWriter,
     Walls,
     callbacks,
+    dense_packing,
     clump_particles,
     demo,
     dyad,
@@ -123,3 +124,16 @@ def test_vtu_and_history_output(tmp_path):
 def test_demo_summarises():
     text = demo()
     assert "restitution" in text and "t* =" in text and "wave speed" in text and "particle-steps/s" in text
+
+
+def test_history_without_energy_tracking_leaves_the_energy_out_or_refuses(tmp_path):
+    """A run without ``track_energy`` has no energies: the writer leaves those columns out (energy=False) or
+    refuses at the first row, never writing zeros."""
+    sim = dense_packing(27, dt=3e-7)
+    assert not sim.track_energy
+    history = HistoryWriter(tmp_path / "plain.csv", energy=False)
+    sim.run(20, callback=history, every=10)
+    curve = read_curve(tmp_path / "plain.csv")
+    assert "kinetic" not in curve and curve["step"].tolist() == [10.0, 20.0]
+    with pytest.raises(ValueError, match="track_energy"):
+        sim.run(10, callback=HistoryWriter(tmp_path / "energy.csv"), every=10)

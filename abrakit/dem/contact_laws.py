@@ -87,7 +87,7 @@ def hertz_normal_coefficient(shear_modulus, poisson, r_tilde):
 
 
 def hertz_shear_coefficient(shear_modulus, poisson, r_tilde):
-    """Coefficient of Eq. (4.14): K^t = c_t |F^n|^{1/3}, c_t = 2(⟨G⟩² 3(1 − ⟨ν⟩) r̃)^{1/3} / (2 − ⟨ν⟩).
+    """Coefficient of Eq. (4.14): ``K^t = c_t |F^n|^{1/3}``, c_t = 2(⟨G⟩² 3(1 − ⟨ν⟩) r̃)^{1/3} / (2 − ⟨ν⟩).
 
     This equals Mindlin's K^t = 8 G* a with G* = G/(2(2 − ν)) and contact radius a = √(R* U).
     """
@@ -186,7 +186,7 @@ class HertzMindlin:
         return prm["cn"] * root**3, 1.5 * prm["cn"] * root
 
     def shear_stiffness(self, fn, prm):
-        """Eq. (4.14): K^t = c_t |F^n|^{1/3}."""
+        """Eq. (4.14): ``K^t = c_t |F^n|^{1/3}``."""
         return prm["ct"] * np.cbrt(np.abs(fn))
 
     def normal_energy(self, overlap, prm):

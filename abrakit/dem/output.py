@@ -45,9 +45,13 @@ class VtuWriter:
         self.series.write(sim.time, p.x, cells, point_data=point_data, cell_data=cell_data)
 
 
-def default_history() -> dict[str, Callable]:
-    """time, step, dt, kinetic/elastic/dissipated energy, work, coordination number."""
-    return {
+ENERGY_COLUMNS = ("kinetic", "elastic", "dissipated", "work")
+
+
+def default_history(energy: bool = True) -> dict[str, Callable]:
+    """time, step, dt, coordination number and, with ``energy``, kinetic/elastic/dissipated energy and work (a
+    simulation keeps those only with ``track_energy=True``)."""
+    history = {
         "time": lambda s: s.time,
         "step": lambda s: s.step_count,
         "dt": lambda s: s.dt,
@@ -57,16 +61,28 @@ def default_history() -> dict[str, Callable]:
         "work": lambda s: s.energy.work,
         "coordination": coordination_number,
     }
+    return history if energy else {k: f for k, f in history.items() if k not in ENERGY_COLUMNS}
 
 
 class HistoryWriter:
-    """Append one CSV row of ``quantities`` (name → callable(sim)) per call; flushed at once."""
+    """Append one CSV row of ``quantities`` (name → callable(sim)) per call; flushed at once.
 
-    def __init__(self, path, quantities: dict[str, Callable] | None = None):
-        self.quantities = default_history() if quantities is None else dict(quantities)
+    The default quantities (:func:`default_history`) include the energies only when ``energy`` is true; a
+    simulation without ``track_energy`` has none to record, and a writer asked for them refuses it at the first
+    row rather than writing zeros."""
+
+    def __init__(self, path, quantities: dict[str, Callable] | None = None, *, energy: bool = True):
+        self.quantities = default_history(energy) if quantities is None else dict(quantities)
         self.writer = CurveWriter(path, list(self.quantities))
+        self._checked = False
 
     def __call__(self, sim) -> None:
+        if not self._checked:
+            wanted = [k for k in ENERGY_COLUMNS if k in self.quantities]
+            if wanted and not sim.track_energy:
+                raise ValueError(f"HistoryWriter records {wanted} but the simulation has track_energy=False: "
+                                 "use HistoryWriter(path, energy=False) or Simulation(track_energy=True)")
+            self._checked = True
         self.writer.write(**{name: float(f(sim)) for name, f in self.quantities.items()})
 
     def close(self) -> None:

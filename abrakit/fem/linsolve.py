@@ -178,6 +178,7 @@ class DirectSolver:
         ``"dense"`` (LAPACK LU), or ``"auto"`` (dense up to :data:`DENSE_MAX_DOFS` unknowns, chosen at the first
         solve; above it PARDISO if it loads, else SuperLU). ``order``: a fill-reducing DOF order for SuperLU (e.g.
         the scratch's geometric nested dissection); PARDISO orders by METIS itself.
+
     Counters: ``analyses``, ``factorisations``, ``solves`` and the seconds spent in each (``times``).
     """
 

@@ -19,7 +19,7 @@ and sets δu_I = δu_R + δλ δu_q with δλ from the linearised constraint (``
 Constraints (``g`` of a step from the converged point (u₀, λ₀)):
 
 - :class:`LoadFactorControl`: Δλ = τ (ordinary load or displacement control);
-- :class:`ArcLength`: Crisfield's cylindrical arc length |Δu|² = Δl² over all DOFs (the prescribed ones included,
+- :class:`ArcLength`: Crisfield's cylindrical arc length ``|Δu|² = Δl²`` over all DOFs (the prescribed ones included,
   Δu_D = Δλ û_D); the quadratic for δλ has two roots, the one whose increment makes the smaller angle with the
   previous one is taken, so the path does not double back;
 - :class:`DissipationControl`: the energy released in the step, G = ½ (P₀ Δv − v₀ ΔP) = τ (Gutiérrez 2004;
@@ -186,7 +186,7 @@ class OpeningControl(LinearConstraint):
 
 @dataclass
 class ArcLength:
-    """Crisfield's cylindrical arc length |Δu|² = Δl² (mm²) over all DOFs; the root of the quadratic that keeps
+    """Crisfield's cylindrical arc length ``|Δu|² = Δl²`` (mm²) over all DOFs; the root of the quadratic that keeps
     the direction of the previous increment is taken."""
 
     tau: float      # Δl (mm)
@@ -266,8 +266,11 @@ class PathControl:
 class PathFollowingSolver(Solver):
     """:class:`~abrakit.fem.Solver` with the load factor as an unknown (see the module docstring).
 
-    ``method``: ``"dissipation"`` (default; load control until the structure softens, then dissipation control)
-    or ``"arc-length"`` (Crisfield's cylindrical arc length from the first step on). Other arguments as for
+    ``method``: ``"dissipation"`` (default; load control until the structure softens, then dissipation control),
+    ``"arc-length"`` (Crisfield's cylindrical arc length from the first step on) or ``"opening"`` (the opening
+    ``c · Δu`` from the first step on). ``opening`` = (DOFs on one side, DOFs on the other) of a notch or weak
+    zone: their mean relative displacement is the opening control's quantity, and the constraint that passes a
+    limit point where load control fails (arc length without it). Other arguments as for
     :class:`~abrakit.fem.Solver`; the load is *either* prescribed displacements linear in λ *or* an external force
     λ f̂ (``external_force`` must then be linear in λ as well).
     """
