@@ -13,7 +13,7 @@ DEMOS = {
     "evolution": "abrakit.evolution",
     "dem": "abrakit.dem",
     "identification": "abrakit.identification",
-    "experiments": "abrakit.experiments.compression",
+    "experiments": "abrakit.experiments.closed_form_checks",
     "contacting": "abrakit.experiments.contacting",
     "wear": "abrakit.wear",
     "fem": "abrakit.fem",

@@ -2,7 +2,7 @@
 
 For every specimen (plate with a hole, double-notched strip, sharp notch), model (I: gradient-enhanced, beta;
 II: ERVE, alpha) and regularisation (weak: beta = 0.1 MPa mm^2 / alpha = 0.05 1/(N mm); strong: beta = 1 /
-alpha = 0.005), three meshes and two load-step sizes are run (``abrakit.damage.specimens.run_specimen``; plane
+alpha = 0.005), three meshes and two load-step sizes are run (``abrakit.damage.runs.run_specimen``; plane
 strain, forces for the 3 mm plates, stop once the force has fallen below 10 % of its peak):
 
 - full mode: meshes of about 1000, 4000 and 8000 elements (the seed's), steps of 0.002 and 0.004 mm;
@@ -36,7 +36,8 @@ from pathlib import Path
 import numpy as np
 
 from abrakit.damage import metrics as M
-from abrakit.damage.specimens import REGULARISATION, SPECIMENS, plot_field, run_specimen, specimen
+from abrakit.damage.runs import REGULARISATION, run_specimen
+from abrakit.damage.specimens import SPECIMENS, plot_field, specimen
 from abrakit.io import CurveWriter, write_json
 
 NAME = "damage"

@@ -13,7 +13,8 @@ from abrakit.damage.laplacian import (
 from abrakit.damage.localisation import localisation_study, run_bar
 from abrakit.damage.model_one_fe import ModelIResult, ModelISolver, solve_model_one
 from abrakit.damage.model_two_fe import ModelTwoResult, run_model_two
-from abrakit.damage.specimens import Specimen, run_specimen, specimen
+from abrakit.damage.runs import SpecimenRun, run_specimen
+from abrakit.damage.specimens import Specimen, specimen
 
 __all__ = [
     "ElementLaplacian",
@@ -33,5 +34,6 @@ __all__ = [
     "run_model_two",
     "Specimen",
     "run_specimen",
+    "SpecimenRun",
     "specimen",
 ]

@@ -39,9 +39,8 @@ sharp notch        specimen 50 x 40 with a 25 mm notch from the left edge at mid
 For the band-width metric, ``band_mirror = 2`` says the band lies on a symmetry line (the modelled part holds
 half of it), and ``band_length`` is its nominal length (ligament), ``None`` where it is measured from the field.
 
-:func:`run_specimen` loads a specimen with either model (Model I: :mod:`abrakit.damage.model_one_fe`, Model II:
-:mod:`abrakit.damage.model_two_fe`) and returns the same record for both; :func:`plot_field` draws an element
-field on the whole specimen (quarter and half models mirrored).
+:func:`abrakit.damage.runs.run_specimen` loads a specimen with either model and returns the same record for both;
+:func:`plot_field` draws an element field on the whole specimen (quarter and half models mirrored).
 """
 
 from __future__ import annotations
@@ -362,85 +361,3 @@ def plot_field(specimen: Specimen, values, ax=None, *, whole: bool = True, edges
     if colorbar and collection is not None:
         ax.figure.colorbar(collection, ax=ax, label=label, shrink=0.8)
     return ax
-
-
-# ---- one run of either model ------------------------------------------------------------------------------------
-#: Regularisation parameters of Ch. 7: Model I beta (MPa mm^2, Table 7.1), Model II alpha (1/(N mm), Table 7.2).
-REGULARISATION = {"I": {"weak": 0.1, "strong": 1.0}, "II": {"weak": 0.05, "strong": 0.005}}
-
-
-@dataclass
-class SpecimenRun:
-    """Model-independent record of one run: the curve (u in mm, F in N for the whole specimen), the final
-    element fields ``stiffness_loss`` (``1 - f`` for Model I, ``1 - f_bar`` for Model II) and ``alpha_p``, and
-    the cost (converged ``steps``, Newton ``iterations``, ``cutbacks``, wall ``seconds``)."""
-
-    model: str
-    parameter: float
-    u: np.ndarray
-    F: np.ndarray
-    stiffness_loss: np.ndarray
-    alpha_p: np.ndarray
-    status: str
-    message: str
-    steps: int
-    iterations: int
-    cutbacks: int
-    seconds: float
-    result: object = None
-
-
-class _Stop(Exception):
-    pass
-
-
-def run_specimen(specimen: Specimen, model: str, parameter: float, *, step: float = 0.002,
-                 stop_fraction: float | None = 0.1) -> SpecimenRun:
-    """Load ``specimen`` to its ``displacement`` in equal increments ``step`` (mm) with Model I or Model II.
-
-    ``model="II"``: :func:`abrakit.damage.model_two_fe.run_model_two` with ``alpha = parameter`` (Table 7.2).
-    ``model="I"``: :class:`abrakit.damage.model_one_fe.ModelISolver` with ``beta = parameter`` and Table 7.1
-    (implicit return map, consistent tangent at frozen f). Both stop once the force has fallen below
-    ``stop_fraction`` of its peak; cutbacks may add steps.
-    """
-    import time
-
-    from ..fem import StepControl
-
-    check_option("model", model, ("I", "II"))
-    steps = max(1, int(round(specimen.displacement / check_positive("step", step))))
-    if model == "II":
-        from .model_two_fe import run_model_two
-
-        res = run_model_two(specimen, parameter, steps=steps, stop_fraction=stop_fraction)
-        c = res.curves
-        return SpecimenRun("II", parameter, c["u"], c["F"], res.stiffness_loss, res.alpha_p, res.status,
-                           res.message, res.steps, res.newton_iterations, res.cutbacks, res.wall_time, res)
-
-    from ..materials import TABLE_7_1, ModelIDamage
-    from .model_one_fe import ModelISolver
-
-    material = ModelIDamage(**{**TABLE_7_1, "beta": parameter}, integration="implicit", tangent="consistent")
-    h = 1.0 / steps
-    solver = ModelISolver(specimen.basis, material, specimen.dirichlet,
-                          control=StepControl(initial=h, maximum=h, minimum=h * 1e-3))
-    name, scale, last, peak = specimen.loaded, specimen.force_scale, [None], [0.0]
-
-    def watch(partial):
-        last[0] = partial
-        F = partial.curves[f"F_{name}"]
-        peak[0] = max(peak[0], float(F[-1]))
-        if stop_fraction is not None and len(F) > 2 and F[-1] < stop_fraction * peak[0]:
-            raise _Stop
-
-    t0 = time.perf_counter()
-    try:
-        res = solver.run(vtu_every=0, on_step=watch)
-        status = "end" if res.completed else "failed"
-    except _Stop:
-        res, status = last[0], "fractured"
-    seconds = time.perf_counter() - t0
-    c = res.curves
-    return SpecimenRun("I", parameter, c[f"u_{name}"], scale * c[f"F_{name}"], 1.0 - res.f, res.alpha_p, status,
-                       res.message, len(c["step"]) - 1, int(np.sum(c["iterations"])), int(res.cutbacks), seconds,
-                       res)

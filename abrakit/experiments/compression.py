@@ -45,7 +45,6 @@ __all__ = [
     "Gauges",
     "compression_test",
     "crack_initiation_stress",
-    "demo",
     "elastic_moduli",
     "elastic_test",
     "loading_rate",
@@ -364,24 +363,3 @@ def strength_test(specimen: Specimen, material: Material | None = None, confinem
                              stop_drop=stop_drop)
     return {"peak": peak_strength(curve), "crack_initiation": crack_initiation_stress(curve), "curve": curve,
             "strain_rate": strain_rate, "sim": sim, "prepare": prep}
-
-
-def demo() -> str:
-    """A 150-sphere specimen (cached after the first call): E and ν by the three schemes beside Eq. (5.20)."""
-    from abrakit.experiments.closed_form_checks import contact_statistics, elastic_predictions
-    from abrakit.experiments.specimen import SpecimenSpec, genesis
-
-    spec = SpecimenSpec(n_particles=150, seed=0, aspect=1.5)
-    specimen = genesis(spec)
-    lines = [f"DEM compression test (Ch. 5.3): {len(specimen)} spheres, porosity after expansion "
-             f"{specimen.info['porosity_expanded']:.3f}, interior after consolidation to σ0 = 1 MPa "
-             f"{specimen.info['porosity_interior']:.3f}"]
-    for label, material in (("granular", spec.material()), ("bonded", spec.material().with_bonds(1e30, 1e30))):
-        result = elastic_test(specimen, material)
-        predicted = elastic_predictions(contact_statistics(result["sim"], margin=1.0))
-        m = result["moduli"]
-        lines.append(f"{label:8s}: E = " + ", ".join(f"{m[s]['E'] / 1e9:.1f}" for s in SCHEMES)
-                     + " GPa (wall, specimen, sphere), ν_wall = " + f"{m['wall']['nu']:.3f}; Eq. (5.20) E = "
-                     + ", ".join(f"{predicted[v]['E'] / 1e9:.1f}" for v in predicted)
-                     + " GPa (published, consistent, affine)")
-    return "\n".join(lines)
