@@ -375,3 +375,25 @@ def test_invalid_inputs_raise():
         Solver(basis, LinearElastic(E, NU), tension_bcs(basis), linear_solver="magic")
     with pytest.raises(ValueError, match="end"):
         Solver(basis, LinearElastic(E, NU), tension_bcs(basis)).run(end=0.0, progress=False)
+
+
+def test_vtu_fields_write_mandel_state_as_true_tensors(tmp_path):
+    """Strain state variables reach the VTU file as 3 × 3 tensors with the true shears (read back with meshio),
+    not as Mandel 6-vectors that ParaView would mislabel."""
+    import meshio
+
+    from abrakit.fem import Dirichlet, Solver, StepControl, meshes, vector_basis
+    from abrakit.materials import LinearElastic
+
+    mesh = meshes.plate_with_hole(50.0, 50.0, 10.0, 4, 3, 4.0)
+    basis = vector_basis(mesh)
+    bcs = [Dirichlet.on(basis, "left", "x"), Dirichlet.on(basis, "bottom", "y"),
+           Dirichlet.on(basis, "top", "y", 0.05, name="top")]
+    result = Solver(basis, LinearElastic(200000.0, 0.3), bcs, control=StepControl(initial=1.0, maximum=1.0)).run(
+        output=tmp_path, progress=False)
+    last = sorted((tmp_path / "fields").glob("*.vtu"))[-1]
+    eps = meshio.read(last).cell_data["eps"][0]
+    mandel = result.state["eps"].mean(axis=1)
+    assert eps.shape == (mesh.nelements, 9)
+    assert np.allclose(eps[:, 0], mandel[:, 0]) and np.allclose(eps[:, 4], mandel[:, 1])
+    assert np.allclose(eps[:, 1], mandel[:, 5] / np.sqrt(2)) and np.allclose(eps[:, 1], eps[:, 3])

@@ -30,8 +30,23 @@ def meshio_cells(mesh):
     return [(_MESHIO_TYPE[name], t.T)]
 
 
+#: State variables stored as Mandel 6-vectors: written as full 3 × 3 tensors (9 components, row-major), which
+#: ParaView labels XX, XY, ..., ZZ with the true shear values (a 6-component array would be read as its symmetric
+#: tensor in the order XX, YY, ZZ, XY, YZ, XZ, which is not the Mandel order, and with the √2 left in the shears).
+MANDEL_STATE = ("eps", "eps_p", "eps_e", "cauchy")
+
+
+def mandel_to_tensor(v: np.ndarray) -> np.ndarray:
+    """Mandel vectors ``(..., 6)`` (11, 22, 33, 23, 13, 12; shears × √2) as row-major 3 × 3 tensors ``(..., 9)``."""
+    v = np.asarray(v, dtype=float)
+    xx, yy, zz = v[..., 0], v[..., 1], v[..., 2]
+    yz, xz, xy = (v[..., k] / SQRT2 for k in (3, 4, 5))
+    return np.stack([xx, xy, xz, xy, yy, yz, xz, yz, zz], axis=-1)
+
+
 def cell_fields(stress: np.ndarray, state: dict) -> dict:
-    """Element averages of the Mandel stress (as tensor components), von Mises stress and state variables.
+    """Element averages of the Mandel stress (as tensor components), von Mises stress and state variables
+    (Mandel ones as 3 × 3 tensors, :data:`MANDEL_STATE`).
 
     Finite-strain models return P (9 components); their Cauchy stress ``state["cauchy"]`` is written instead."""
     if stress.shape[-1] != 6:
@@ -44,7 +59,9 @@ def cell_fields(stress: np.ndarray, state: dict) -> dict:
     for name, value in state.items():
         value = np.asarray(value)
         if value.shape[:2] == (nel, nqp) and value.ndim <= 3 and name != "cauchy":
-            fields[name] = value.mean(axis=1)
+            mean_value = value.mean(axis=1)
+            fields[name] = mandel_to_tensor(mean_value) if name in MANDEL_STATE and value.shape[-1] == 6 \
+                else mean_value
         elif value.shape[:1] == (nel,) and value.ndim <= 2:
             fields[name] = value
     return fields
