@@ -204,3 +204,21 @@ def test_allowed_unstable_step_is_kept_with_one_warning_and_then_stopped():
         with pytest.raises(ParticleEscapeError, match="left the domain"):
             sim.run(200, progress=False)
     assert sum("allow" in str(w.message) for w in record) == 1
+
+
+def test_deep_initial_overlap_is_announced_with_the_speed_it_releases():
+    """Two spheres starting 30 % into each other: a warning says so and predicts the separation speed
+    U √(K/m*), which the undamped linear spring then delivers (energy conservation)."""
+    r = 0.01
+    p = Particles.spheres([[0, 0, 0], [2 * r - 0.3 * r, 0, 0]], r, 2650.0, kn=2e5)
+    with pytest.warns(RuntimeWarning, match=r"overlapping by up to 30 %") as record:
+        sim = Simulation(p, safety=0.05)                             # fine steps: the release is resolved
+    predicted = float(str(record[0].message).split("up to ")[2].split(" m/s")[0])
+    sim.run(2000, progress=False)
+    separation = np.linalg.norm(p.v[1] - p.v[0])
+    assert separation == pytest.approx(predicted, rel=2e-2)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", RuntimeWarning)
+        from abrakit.dem import dense_packing
+
+        dense_packing(64)                                               # 0.5 % overlaps: no warning

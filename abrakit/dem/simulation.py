@@ -167,6 +167,28 @@ class Simulation:
         if periodic is not None:
             periodic.check_range(2.0 * float(particles.radius.max()) + self.skin)
         self.refresh()
+        self._warn_initial_overlaps()
+
+    def _warn_initial_overlaps(self, limit: float = 0.05) -> None:
+        """Warn when the start has pairs overlapping by more than ``limit`` of the smaller radius: each spring then
+        releases ½ K U² in the first steps and sends its pair apart at U √(K/m*) (m* the pair's reduced mass)."""
+        c, p = self.contacts, self.particles
+        if not len(c):
+            return
+        d = self.branch(c.i, c.j)
+        overlap = p.radius[c.i] + p.radius[c.j] - np.sqrt(rowdot(d, d))
+        ratio = overlap / np.minimum(p.radius[c.i], p.radius[c.j])
+        deep = ratio > limit
+        if not deep.any():
+            return
+        prm = {k: v[deep] if np.ndim(v) else v for k, v in c.prm.items()}
+        stiffness = np.broadcast_to(self.law.normal_force(overlap[deep], prm)[1], overlap[deep].shape)
+        mass = p.mass[c.i[deep]] * p.mass[c.j[deep]] / (p.mass[c.i[deep]] + p.mass[c.j[deep]])
+        speed = float(np.max(overlap[deep] * np.sqrt(stiffness / mass)))
+        warnings.warn(f"{int(deep.sum())} particle pair(s) start overlapping by up to {100 * ratio.max():.0f} % of the "
+                      f"smaller radius: released, they fly apart at up to {speed:.3g} m/s. Separate them, or let the "
+                      "packing settle first with local damping (Simulation(local_damping=0.7) and dem.relax)",
+                      RuntimeWarning, stacklevel=3)
 
     @property
     def kernel(self) -> str:
