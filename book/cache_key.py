@@ -2,8 +2,9 @@
 
 Jupyter Book's ``execute_notebooks: cache`` re-executes a chapter only when its code cells change. The chapters also
 run the package and read the stored benchmark results, so this script hashes ``abrakit/**/*.py``,
-``benchmarks/results/**`` and ``pyproject.toml`` and deletes ``book/_build/.jupyter_cache`` when the hash differs
-from the one of the last build (``make book`` runs it first; a fresh clone has no cache and executes everything).
+``benchmarks/results/**`` and ``pyproject.toml`` and deletes ``book/_build/.jupyter_cache`` and Sphinx's saved
+environment (``.doctrees``) when the hash differs from the one of the last build (``make book`` runs it first; a
+fresh clone has no cache and executes everything).
 """
 
 from __future__ import annotations
@@ -30,7 +31,10 @@ def current_key() -> str:
 def main() -> None:
     key = current_key()
     if not STAMP.exists() or STAMP.read_text() != key:
+        # the execution cache, and Sphinx's saved environment: without it Sphinx would re-read (and so re-execute)
+        # only the chapters whose source changed
         shutil.rmtree(BUILD / ".jupyter_cache", ignore_errors=True)
+        shutil.rmtree(BUILD / ".doctrees", ignore_errors=True)
         BUILD.mkdir(parents=True, exist_ok=True)
         STAMP.write_text(key)
         print("book: package or results changed, execution cache cleared")

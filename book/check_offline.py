@@ -11,7 +11,8 @@ import sys
 from pathlib import Path
 
 HTML = Path(__file__).resolve().parent / "_build" / "html"
-EXTERNAL = re.compile(r"""<(?:script[^>]*\ssrc|link[^>]*rel=["']?(?:stylesheet|preload)[^>]*\shref)=["']?((?:https?:)?//[^"' >]+)""")
+EXTERNAL = re.compile(r"""<(?:script[^>]*\ssrc|link[^>]*rel=["']?(?:stylesheet|preload)[^>]*\shref)"""
+                      r"""=["']?((?:https?:)?//[^"' >]+)""")
 
 
 def external_references(root: Path = HTML) -> dict[str, set[str]]:
