@@ -27,7 +27,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from abrakit.validation import check_range
+from abrakit.validation import check_poisson, check_positive, check_range
 
 __all__ = [
     "ContactForces",
@@ -70,8 +70,13 @@ def turn_into_plane(vec, n):
 
 
 def series_stiffness(ka, kb):
-    """Two springs in series, K = k_A k_B / (k_A + k_B), Eq. (4.11)/(4.12) [N/m]; a rigid (inf) side gives k_A."""
+    """Two springs in series, K = k_A k_B / (k_A + k_B), Eq. (4.11)/(4.12) [N/m]; a rigid (inf) side gives k_A.
+
+    Each stiffness lies in [0, inf] (0: no spring, inf: rigid); NaN or a negative value is refused."""
     ka, kb = np.asarray(ka, float), np.asarray(kb, float)
+    for name, k in (("ka", ka), ("kb", kb)):
+        if np.any(np.isnan(k)) or np.any(k < 0.0):
+            raise ValueError(f"{name} must lie in [0, inf] (a stiffness, N/m), got {k[np.isnan(k) | (k < 0)][:3]}")
     with np.errstate(divide="ignore", invalid="ignore"):
         k = 1.0 / (1.0 / ka + 1.0 / kb)
     return np.where((ka == 0.0) | (kb == 0.0), 0.0, k)
@@ -83,6 +88,7 @@ def hertz_normal_coefficient(shear_modulus, poisson, r_tilde):
     With r̃ = 2 r_A r_B/(r_A + r_B) the force F^n = c_n U^{3/2} is Hertz's (4/3) E* √R* U^{3/2} for two
     spheres of one material (E* = G/(1 − ν), R* = r_A r_B/(r_A + r_B)).
     """
+    shear_modulus, poisson, r_tilde = _hertz_inputs(shear_modulus, poisson, r_tilde)
     return 2.0 * shear_modulus * np.sqrt(2.0 * r_tilde) / (3.0 * (1.0 - poisson))
 
 
@@ -91,7 +97,14 @@ def hertz_shear_coefficient(shear_modulus, poisson, r_tilde):
 
     This equals Mindlin's K^t = 8 G* a with G* = G/(2(2 − ν)) and contact radius a = √(R* U).
     """
+    shear_modulus, poisson, r_tilde = _hertz_inputs(shear_modulus, poisson, r_tilde)
     return 2.0 * np.cbrt(shear_modulus**2 * 3.0 * (1.0 - poisson) * r_tilde) / (2.0 - poisson)
+
+
+def _hertz_inputs(shear_modulus, poisson, r_tilde):
+    """The checked inputs of the Hertz–Mindlin coefficients: G > 0, −1 < ν < 1/2, r̃ > 0."""
+    return (check_positive("shear_modulus", shear_modulus), check_poisson("poisson", poisson),
+            check_positive("r_tilde", r_tilde))
 
 
 def _effective_mass(ma, mb):

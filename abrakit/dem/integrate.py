@@ -54,6 +54,13 @@ def critical_time_step(mass, inertia, k_translation, k_rotation, movable=None) -
     is stable up to 2√(m/k), a chain of equal masses and springs up to √(m/k) = √2 √(m/Σk). Particles with zero
     stiffness or that do not move (``movable`` false) are ignored; with no stiffness at all the result is ``inf``.
     """
+    checks = (("mass", mass, True), ("inertia", inertia, True), ("k_translation", k_translation, False),
+              ("k_rotation", k_rotation, False))
+    for name, value, positive in checks:                 # never an inf or NaN step from bad input
+        value = np.asarray(value, dtype=float)
+        bad = ~np.isfinite(value) | ((value <= 0.0) if positive else (value < 0.0))
+        if np.any(bad):
+            raise ValueError(f"{name} must lie in {'(0, inf)' if positive else '[0, inf)'}, got {value[bad][:3]}")
     movable = np.ones(len(mass), bool) if movable is None else movable
     with np.errstate(divide="ignore"):
         dt_t = np.where(k_translation > 0, np.sqrt(mass / np.where(k_translation > 0, k_translation, 1.0)), np.inf)

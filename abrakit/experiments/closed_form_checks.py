@@ -113,20 +113,24 @@ def elastic_predictions(stats_: dict) -> dict:
 
 
 def mean_interval(values, confidence: float = 0.95) -> dict:
-    """Mean, sample standard deviation and the Student-t confidence half-width of the mean over ``values``
-    (NaNs dropped; half-width NaN for fewer than two values)."""
+    """Mean, sample standard deviation and the Student-t confidence half-width of the mean over ``values``.
+
+    Non-finite values (a case that failed) are left out and counted in ``"dropped"``; the half-width is NaN for
+    fewer than two values."""
     check_range("confidence", confidence, 0.0, 1.0, low_open=True, high_open=True)
     v = np.asarray(values, float)
-    v = v[np.isfinite(v)]
+    finite = np.isfinite(v)
+    dropped = int(np.size(v) - np.count_nonzero(finite))
+    v = v[finite]
     n = len(v)
     if n == 0:
-        return {"mean": float("nan"), "std": float("nan"), "half_width": float("nan"), "n": 0}
+        return {"mean": float("nan"), "std": float("nan"), "half_width": float("nan"), "n": 0, "dropped": dropped}
     mean = float(v.mean())
     if n < 2:
-        return {"mean": mean, "std": float("nan"), "half_width": float("nan"), "n": 1}
+        return {"mean": mean, "std": float("nan"), "half_width": float("nan"), "n": 1, "dropped": dropped}
     std = float(v.std(ddof=1))
     half = float(stats.t.ppf(0.5 + confidence / 2, n - 1) * std / np.sqrt(n))
-    return {"mean": mean, "std": std, "half_width": half, "n": n}
+    return {"mean": mean, "std": std, "half_width": half, "n": n, "dropped": dropped}
 
 
 def _spec(params: dict) -> SpecimenSpec:

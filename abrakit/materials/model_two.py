@@ -53,7 +53,11 @@ def effective_damage_function(f_i):
 
 
 def erve_strains(eps, f_i):
-    """Sub-domain strains of the emulated RVE, Eq. (6.88): ``eps_i = f_bar / f(d_i) eps``, shape ``(..., n, 6)``."""
+    """Sub-domain strains of the emulated RVE, Eq. (6.88): ``eps_i = f_bar / f(d_i) eps``, shape ``(..., n, 6)``.
+
+    ``f_i`` lies in (0, 1]: a sub-domain with f = 0 (d = 1) would carry an infinite strain; the model caps the
+    damage below 1 (``d_max``)."""
+    f_i = check_range("f_i", f_i, 0.0, 1.0, low_open=True)
     f_bar = effective_damage_function(f_i)
     return (f_bar[..., None] / f_i)[..., None] * np.asarray(eps)[..., None, :]
 

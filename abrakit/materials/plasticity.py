@@ -60,6 +60,7 @@ def plastic_step(eps, eps_p, alpha_p, shear_modulus, r_p: float | None, K_H: flo
     frozen at the old step, as both damage models do (operator split). ``integration``: ``"explicit"``
     (seed, 6.59/6.61) or ``"implicit"`` (radial return). ``r_p=None`` means no plasticity (elastic step).
     """
+    eps = check_strain(eps)
     batch = np.broadcast_shapes(np.shape(eps)[:-1], np.shape(alpha_p), np.shape(shear_modulus))
     new_eps_p = np.array(np.broadcast_to(eps_p, (*batch, 6)), dtype=float)
     new_alpha_p = np.array(np.broadcast_to(alpha_p, batch), dtype=float)
