@@ -180,7 +180,7 @@ def series_stiffness(k_a, k_b):
 
     The same rule gives the normal (4.11) and the tangential (4.12) contact stiffness (N/m).
     """
-    from .dem.contact_laws import series_stiffness as dem_series_stiffness    # the engine's rule, one implementation
+    from .dem.contact_laws import series_stiffness as dem_series_stiffness  # the engine's rule, one implementation
 
     return dem_series_stiffness(check_positive("k_a", k_a), check_positive("k_b", k_b))
 
