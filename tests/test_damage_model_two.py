@@ -227,3 +227,24 @@ def test_dissipation_control_unloads_an_elastoplastic_specimen_instead_of_damagi
                         path=PathControl(initial=0.01, maximum=0.01, target_iterations=8, max_steps=200))
     u = res.curves["u"]
     assert u[-1] < u.max() and res.curves["damage_dissipation"][-1] < 0.01 * res.curves["external_work"].max()
+
+
+def test_sharp_notch_corner_damage_comes_from_the_grip():
+    """The top-right corner of the sharp notch is damaged under the non-rotating grip (uniform top displacement)
+    and stays intact when the same edge is pulled by a traction (benchmarks/bench_sharp_notch_edge.py)."""
+    import importlib.util
+    import sys
+
+    bench_dir = Path(__file__).resolve().parent.parent / "benchmarks"
+    sys.path.insert(0, str(bench_dir))
+    spec = importlib.util.spec_from_file_location("bench_sharp_notch_edge", bench_dir / "bench_sharp_notch_edge.py")
+    bench = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(bench)
+    sp = sharp_notch("coarse")
+    centres = sp.mesh.p[:, sp.mesh.t].mean(axis=1)
+    corner = bench.ZONES["corner"](*centres)
+    area = M.element_areas(sp.mesh)
+    held = bench.grip(sp)
+    pulled = bench.traction(sp, 1.5 * held["peak_N"] / sp.force_scale / 50.0)
+    assert area[corner & (held["loss"] > 0.5)].sum() > 15.0                  # mm² of a 25 mm² zone
+    assert pulled["status"] == "fractured" and pulled["loss"][corner].max() < 0.01
