@@ -362,10 +362,7 @@ def run_model_two(specimen, alpha: float = 0.05, *, material: ModelIIDamage | No
     status, message, checkpoint = "end", "", None
     try:
         book.clock = _time.perf_counter()
-        if path is None:
-            solve = solver.run(end=end, state0=start_state, progress=progress, on_step=after_step, output=None)
-        else:
-            solve = solver.run(end=end, progress=progress, on_step=after_step, output=None)
+        solve = solver.run(end=end, progress=progress, on_step=after_step, output=None)   # starts at start_state
     except _Stop:
         solve = book.last
         status = "fractured"

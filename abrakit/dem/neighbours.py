@@ -33,24 +33,23 @@ def candidate_pairs(x, radius, skin, clump=None, periodic=None, compiled=False):
         i, j, count = cell_list_pairs(x, radius, skin, 8 * len(x))
         if count > 8 * len(x):
             i, j, count = cell_list_pairs(x, radius, skin, count)
-        i, j = i[:count], j[:count]
-        if clump is not None:
-            keep = (clump[i] < 0) | (clump[i] != clump[j])
-            i, j = i[keep], j[keep]
-        return i, j
-    if periodic is None:
-        tree = cKDTree(x, balanced_tree=False)           # unbalanced: faster to build, as fast to query here
+        i, j = i[:count], j[:count]                               # sorted by (i, j) already
     else:
-        tree = cKDTree(np.minimum(x - periodic.lower, np.nextafter(periodic.lengths, 0)), boxsize=periodic.lengths)
-    pairs = tree.query_pairs(2.0 * float(radius.max()) + skin, output_type="ndarray")
-    i, j = pairs[:, 0].astype(np.int64), pairs[:, 1].astype(np.int64)
-    d = x[j] - x[i] if periodic is None else periodic.minimum_image(x[j] - x[i])
-    keep = np.einsum("ij,ij->i", d, d) < (radius[i] + radius[j] + skin) ** 2
+        if periodic is None:
+            tree = cKDTree(x, balanced_tree=False)           # unbalanced: faster to build, as fast to query here
+        else:
+            tree = cKDTree(np.minimum(x - periodic.lower, np.nextafter(periodic.lengths, 0)),
+                           boxsize=periodic.lengths)
+        pairs = tree.query_pairs(2.0 * float(radius.max()) + skin, output_type="ndarray")
+        i, j = pairs[:, 0].astype(np.int64), pairs[:, 1].astype(np.int64)
+        d = x[j] - x[i] if periodic is None else periodic.minimum_image(x[j] - x[i])
+        keep = np.einsum("ij,ij->i", d, d) < (radius[i] + radius[j] + skin) ** 2
+        order = np.argsort(pair_keys(i[keep], j[keep], len(x)))   # keys are unique: no need for a stable sort
+        i, j = i[keep][order], j[keep][order]
     if clump is not None:
-        keep &= (clump[i] < 0) | (clump[i] != clump[j])
-    i, j = i[keep], j[keep]
-    order = np.argsort(pair_keys(i, j, len(x)))              # keys are unique: no need for a stable sort
-    return i[order], j[order]
+        keep = (clump[i] < 0) | (clump[i] != clump[j])
+        i, j = i[keep], j[keep]
+    return i, j
 
 
 def wall_candidates(x, radius, walls, skin):

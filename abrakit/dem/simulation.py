@@ -183,8 +183,7 @@ class Simulation:
             return
         prm = {k: v[deep] if np.ndim(v) else v for k, v in c.prm.items()}
         stiffness = np.broadcast_to(self.law.normal_force(overlap[deep], prm)[1], overlap[deep].shape)
-        mass = p.mass[c.i[deep]] * p.mass[c.j[deep]] / (p.mass[c.i[deep]] + p.mass[c.j[deep]])
-        speed = float(np.max(overlap[deep] * np.sqrt(stiffness / mass)))
+        speed = float(np.max(overlap[deep] * np.sqrt(stiffness / prm["mass"])))     # prm["mass"]: the pair's m*
         warnings.warn(f"{int(deep.sum())} particle pair(s) start overlapping by up to {100 * ratio.max():.0f} % of the "
                       f"smaller radius: released, they fly apart at up to {speed:.3g} m/s. Separate them, or let the "
                       "packing settle first with local damping (Simulation(local_damping=0.7) and dem.relax)",
@@ -280,7 +279,7 @@ class Simulation:
             return self._no_contacts(c)
         if self.kernel == "numba":
             r, overlap, n, failed = self._ball_ball_compiled(force, torque)
-            live = slice(None)
+            live, prm = slice(None), c.prm
             c.ft, c.fn, c.force = r.ft, r.fn, r.force
         else:
             d = gather(p.x, c.j) - gather(p.x, c.i)
@@ -290,7 +289,8 @@ class Simulation:
             n = d / dist                                              # Eq. (4.1)
             overlap = self._radius_sum - dist                         # Eq. (4.3)
             live = np.flatnonzero((overlap > 0.0) | c.bonded)
-            r = self._live_contact_forces(live, overlap, n, force, torque)
+            prm = {k: v[live] for k, v in c.prm.items()}
+            r = self._live_contact_forces(live, prm, overlap, n, force, torque)
             failed = r.tension_failure.any() or r.shear_failure.any()
             c.ft, c.fn, c.force = (_place(a, live, len(c)) for a in (r.ft, r.fn, r.force))
         c.overlap, c.normal = overlap, n
@@ -307,12 +307,11 @@ class Simulation:
             _scatter(self._dashpot[0], i, f, -1.0)
             _scatter(self._dashpot[1], i, (p.radius[i] - 0.5 * overlap) * lever, -1.0)
             _scatter(self._dashpot[1], j, (p.radius[j] - 0.5 * overlap) * lever, -1.0)
-        return self._elastic_energy({k: v[live] for k, v in c.prm.items()}, overlap, c.bonded[live],
-                                    c.bond_gap[live], r)
+        return self._elastic_energy(prm, overlap, c.bonded[live], c.bond_gap[live], r)
 
-    def _live_contact_forces(self, live, overlap, n, force, torque) -> ContactForces:
-        """The law on the contacts ``live`` (indices; Eq. 4.4–4.10), their forces and moments summed onto the
-        particles."""
+    def _live_contact_forces(self, live, prm, overlap, n, force, torque) -> ContactForces:
+        """The law on the contacts ``live`` (indices; their parameters ``prm``; Eq. 4.4–4.10), their forces and
+        moments summed onto the particles."""
         p, c = self.particles, self.contacts
         i, j, U, n = c.i[live], c.j[live], overlap[live], np.take(n, live, axis=1)
         arm_i = p.radius[i] - 0.5 * U                                 # Eq. (4.4): centre to contact point
@@ -320,8 +319,8 @@ class Simulation:
         v_rel = gather(p.v, j) - gather(p.v, i) - cross(arm_i * gather(p.w, i) + arm_j * gather(p.w, j), n)
         bonds = (c.bonded[live], c.bond_gap[live], c.bond_normal_strength[live], c.bond_shear_strength[live]) \
             if c.bonded.any() else ()
-        r = force_displacement(self.law, {k: v[live] for k, v in c.prm.items()}, U, n, v_rel,
-                               np.take(c.ft, live, axis=1), self.dt, *bonds, energy=self.track_energy)
+        r = force_displacement(self.law, prm, U, n, v_rel, np.take(c.ft, live, axis=1), self.dt, *bonds,
+                               energy=self.track_energy)
         _scatter(force, j, r.force)                                   # B receives +F, A receives −F
         _scatter(force, i, r.force, -1.0)
         lever = cross(n, r.force)                                     # moment arm × force: −r' n × F
@@ -512,8 +511,7 @@ class Simulation:
             raise ValueError(f"particles {i[a]} and {j[a]} have coincident centres: the contact normal "
                              "(Eq. 4.1) is undefined; separate them")
         self.contacts = new
-        self._radius_i, self._radius_j = p.radius[i], p.radius[j]
-        self._radius_sum = self._radius_i + self._radius_j
+        self._radius_sum = p.radius[i] + p.radius[j]
         k, jw = wall_candidates(p.x, p.radius, self.walls, self.skin)
         wall_new = transfer_history(self.wall_contacts, ContactSet.empty_history(k, jw, n))
         wall_new.prm = self.law.wall_parameters(p, self.walls, k, jw)

@@ -10,6 +10,7 @@ from pathlib import Path
 
 import numpy as np
 
+from .. import tensors as T
 from ..io import CurveWriter, VtuSeries
 
 SQRT2 = np.sqrt(2.0)
@@ -36,14 +37,6 @@ def meshio_cells(mesh):
 MANDEL_STATE = ("eps", "eps_p", "eps_e", "cauchy")
 
 
-def mandel_to_tensor(v: np.ndarray) -> np.ndarray:
-    """Mandel vectors ``(..., 6)`` (11, 22, 33, 23, 13, 12; shears × √2) as row-major 3 × 3 tensors ``(..., 9)``."""
-    v = np.asarray(v, dtype=float)
-    xx, yy, zz = v[..., 0], v[..., 1], v[..., 2]
-    yz, xz, xy = (v[..., k] / SQRT2 for k in (3, 4, 5))
-    return np.stack([xx, xy, xz, xy, yy, yz, xz, yz, zz], axis=-1)
-
-
 def cell_fields(stress: np.ndarray, state: dict) -> dict:
     """Element averages of the Mandel stress (as tensor components), von Mises stress and state variables
     (Mandel ones as 3 × 3 tensors, :data:`MANDEL_STATE`).
@@ -60,8 +53,8 @@ def cell_fields(stress: np.ndarray, state: dict) -> dict:
         value = np.asarray(value)
         if value.shape[:2] == (nel, nqp) and value.ndim <= 3 and name != "cauchy":
             mean_value = value.mean(axis=1)
-            fields[name] = mandel_to_tensor(mean_value) if name in MANDEL_STATE and value.shape[-1] == 6 \
-                else mean_value
+            fields[name] = T.from_mandel(mean_value).reshape(nel, 9) \
+                if name in MANDEL_STATE and value.shape[-1] == 6 else mean_value
         elif value.shape[:1] == (nel,) and value.ndim <= 2:
             fields[name] = value
     return fields

@@ -93,6 +93,11 @@ class PathPoint:
         return self.lam - self.lam0
 
 
+def increment_length(du_free: np.ndarray, dlam: float, u_hat: np.ndarray) -> float:
+    """|Δu| over all DOFs of an increment: the free part ``du_free`` and Δλ û on the prescribed DOFs (mm)."""
+    return float(np.sqrt(du_free @ du_free + dlam**2 * (u_hat @ u_hat)))
+
+
 class ConstraintSingular(NewtonFailure):
     """The linearised constraint does not involve the load factor (e.g. no energy is released along the
     tangent of an elastic structure)."""
@@ -192,12 +197,8 @@ class ArcLength:
     tau: float      # Δl (mm)
     name = "arc length"
 
-    @staticmethod
-    def _length2(du_free, dlam, p):
-        return float(du_free @ du_free) + dlam**2 * float(p.u_hat @ p.u_hat)
-
     def residual(self, p):
-        return np.sqrt(self._length2(p.du[p.free], p.dlam, p)) - self.tau
+        return increment_length(p.du[p.free], p.dlam, p.u_hat) - self.tau
 
     def _cosine(self, du_free, dlam, p):
         if p.previous is None:
@@ -218,8 +219,7 @@ class ArcLength:
         return max(roots, key=lambda d: self._cosine(base + d * du_q, p.dlam + d, p))
 
     def predictor(self, p, du_q):
-        length = np.sqrt(float(du_q @ du_q) + float(p.u_hat @ p.u_hat))
-        dlam = self.tau / length
+        dlam = self.tau / increment_length(du_q, 1.0, p.u_hat)
         return dlam if self._cosine(dlam * du_q, dlam, p) >= 0.0 else -dlam
 
     def satisfied(self, p, scale):
@@ -478,10 +478,9 @@ class PathFollowingSolver(Solver):
         return recorder.result(cutbacks)
 
     def _length(self, increment) -> float:
-        """|Δu| over all DOFs of an increment (Δu, Δλ): the free part plus Δλ û on the prescribed DOFs (mm)."""
+        """:func:`increment_length` of an increment (Δu over all DOFs, Δλ)."""
         du, dlam = increment
-        free = self.constraints.free
-        return float(np.sqrt(du[free] @ du[free] + dlam**2 * (self.u_hat @ self.u_hat)))
+        return increment_length(du[self.constraints.free], dlam, self.u_hat)
 
     def _limit_point(self, previous):
         """The constraint that passes a limit point where load control failed: the opening (if given) or the

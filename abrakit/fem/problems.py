@@ -18,7 +18,7 @@ import skfem
 from scipy.optimize import brentq
 
 from ..materials import TABLE_7_1
-from ..validation import check_positive, check_range
+from ..validation import check_option, check_positive, check_range
 from . import meshes
 from .boundary import Dirichlet, surface_load
 from .kinematics import vector_basis
@@ -248,14 +248,12 @@ class SofteningBar:
         if displacement is None:
             displacement = 2.0 * self.eps_f * self.h + self.peak_displacement
         conditions = [Dirichlet.on(basis, "left", "x"), Dirichlet.on(basis, "bottom", "y")]
-        if load == "displacement":
+        if check_option("load", load, ("displacement", "force")) == "displacement":
             conditions.append(Dirichlet.on(basis, "right", "x", displacement, name="right"))
-        elif load == "force":
+        else:
             f_hat = surface_load(basis, "right", traction=(2.0 * self.f_t, 0.0))
             options.update(external_force=lambda lam: lam * f_hat,
                            monitors={"right": basis.get_dofs("right").nodal["u^1"]})
-        else:
-            raise ValueError(f"load must be 'displacement' or 'force', got {load!r}")
         if not follow:
             return Solver(basis, material, conditions, **options)
         nodes = mesh.t[:, self.n // 2]                              # the weak element's opening: right − left
