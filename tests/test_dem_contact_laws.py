@@ -138,3 +138,16 @@ def test_hertz_is_not_bondable():
 def test_negative_damping_ratio_rejected():
     with pytest.raises(ValueError, match="damping_normal"):
         Linear(damping_normal=-0.1)
+
+
+def test_a_spring_along_the_new_normal_is_dropped_not_rescaled_round_off():
+    """The example hypothesis found: a tangential spring exactly along the turned normal leaves only round-off
+    in the plane; rescaling that to the old length pointed the spring along n. It is dropped instead, and the
+    compiled law agrees."""
+    n = np.array([0.0, 1.0, 1.0]).reshape(3, 1) / np.sqrt(2.0)
+    turned = turn_into_plane(np.array([0.0, 100.0, 100.0]).reshape(3, 1), n)
+    assert np.all(turned == 0.0)
+    law, prm = _one_contact()
+    r = force_displacement(law, prm, np.array([2e-5]), n, np.zeros((3, 1)), np.array([[0.0], [100.0], [100.0]]),
+                           1e-4)
+    assert np.all(r.ft == 0.0)

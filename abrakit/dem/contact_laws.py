@@ -58,15 +58,21 @@ def cross(a, b):
     return np.array([a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]])
 
 
+PLANE_TOL = 1e-12
+"""Relative in-plane remainder below which a turned tangential spring is taken as lying along the normal."""
+
+
 def turn_into_plane(vec, n):
     """Remove the component of ``vec`` (3, M) along the unit normal ``n`` and restore its length.
 
-    An incremental shear spring keeps its force in the contact plane when the plane turns with the pair.
+    An incremental shear spring keeps its force in the contact plane when the plane turns with the pair. A spring
+    that lies along the new normal (its in-plane remainder at round-off, below ``PLANE_TOL`` of its length) has no
+    direction in the plane and is dropped: rescaling the round-off would point it anywhere, even along n.
     """
     before = np.sqrt(dot(vec, vec))
     vec = vec - dot(vec, n) * n
     after = np.sqrt(dot(vec, vec))
-    return vec * np.divide(before, after, out=np.zeros_like(after), where=after > 0.0)
+    return vec * np.divide(before, after, out=np.zeros_like(after), where=after > PLANE_TOL * before)
 
 
 def series_stiffness(ka, kb):

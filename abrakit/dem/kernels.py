@@ -16,6 +16,7 @@ import math
 import numpy as np
 
 from ..compiled import HAVE_NUMBA, njit
+from .contact_laws import PLANE_TOL
 
 __all__ = ["HAVE_NUMBA", "advance", "linear_contacts", "linear_wall_contacts"]
 
@@ -40,7 +41,7 @@ def _linear_law(U, n0, n1, n2, r0, r1, r2, f0, f1, f2, kn, kt, mu, beta_n, beta_
     fdn = f0 * n0 + f1 * n1 + f2 * n2
     f0, f1, f2 = f0 - fdn * n0, f1 - fdn * n1, f2 - fdn * n2
     after = math.sqrt(f0 * f0 + f1 * f1 + f2 * f2)
-    scale = before / after if after > 0.0 else 0.0
+    scale = before / after if after > PLANE_TOL * before else 0.0    # as turn_into_plane
     f0, f1, f2 = f0 * scale - kt * dt * t0, f1 * scale - kt * dt * t1, f2 * scale - kt * dt * t2
     if not touching:
         f0 = f1 = f2 = 0.0
