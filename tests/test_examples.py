@@ -37,3 +37,17 @@ def test_damage_example_is_irreversible_and_rate_dependence_lags(tmp_path):
 @pytest.mark.parametrize("path", sorted(EXAMPLES.glob("*.py")), ids=lambda p: p.stem)
 def test_every_example_has_a_test(path):
     assert path.stem in Path(__file__).read_text(), f"examples/{path.name} has no test"
+
+
+def test_snap_back_example_follows_the_branch_that_displacement_control_jumps(tmp_path):
+    summary = load("model_one_snap_back").main(tmp_path)
+    path, jumped = summary["path"], summary["displacement"]
+    assert path["jumps"] == 0 and jumped["jumps"] >= 1
+    assert path["smallest_u_after_peak_mm"] < 0.7 * path["u_peak_mm"]                 # the branch returns
+    assert jumped["smallest_u_after_peak_mm"] == pytest.approx(jumped["u_peak_mm"])    # displacement control cannot
+    assert path["energy_missed"] < 0.1 < jumped["energy_missed"]
+    assert (tmp_path / "snap_back_path.csv").read_text().count("\n") > 50
+
+
+def test_thick_cylinder_example_is_on_hills_solution():
+    assert load("thick_cylinder_collapse").main() < 0.01

@@ -32,10 +32,11 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 import skfem
 
-from ..fem import Dirichlet, Kinematics, NewtonOptions, Solver, StepControl, vector_basis
+from ..fem import Dirichlet, Kinematics, NewtonOptions, PathControl, Solver, StepControl, vector_basis
 from ..materials import TABLE_7_1, TABLE_7_2, ModelIDamage, ModelIIDamage
 from ..validation import check_positive, check_range
 from .model_one_fe import ModelISolver
+from .model_one_path import ModelIPathFollowingSolver
 
 #: Young's modulus (MPa) of Tables 7.1/7.2; nu = 0 makes the strip a 1D bar.
 E_BAR = TABLE_7_1["E"]
@@ -109,6 +110,7 @@ class BarRun:
     completed: bool
     wall_time: float
     jumps: int = 0
+    result: object = None
 
     @property
     def h(self) -> float:
@@ -133,10 +135,14 @@ class BarRun:
 
 def run_bar(material, n_elements: int, *, name: str = "", length: float = 20.0, area: float = 100.0,
             end_displacement: float = 0.04, step: float = 0.002, depth: float = 0.05, width: float = 1.0,
-            notch: float = 0.02, damage_scheme: str = "coupled") -> BarRun:
+            notch: float = 0.02, damage_scheme: str = "coupled", gauge: float | None = None) -> BarRun:
     """Pull the bar with a weak spot to ``end_displacement`` (mm) in load steps of ``step`` (fraction of the path).
 
-    Model I materials (with ``update_damage``) run through :class:`ModelISolver` (with ``damage_scheme``);
+    Model I materials (with ``update_damage``) run through :class:`ModelISolver` (with ``damage_scheme``), or,
+    with ``gauge`` (a fraction of the length), through
+    :class:`~abrakit.damage.model_one_path.ModelIPathFollowingSolver`, steered by the opening of the middle
+    ``gauge`` of the bar in steps of about ``step`` (load factor, then opening), through the snap-back until the
+    force falls to 5 % of its peak or the end displacement is reached (``result``: the path follower's result);
     any other material through :class:`abrakit.fem.Solver`, with ``external_work`` passed to ``update`` when it is
     a :class:`~abrakit.materials.ModelIIDamage` (rate limit, Eq. 6.97/6.103).
     """
@@ -153,13 +159,25 @@ def run_bar(material, n_elements: int, *, name: str = "", length: float = 20.0, 
     control = StepControl(initial=step, maximum=step, minimum=1e-4 * step)
     x = mesh.p[0, mesh.t].mean(axis=0)
     t0 = _time.perf_counter()
+    if gauge is not None:
+        check_range("gauge", gauge, 0.0, 1.0, low_open=True, high_open=True)
+        if not hasattr(material, "update_damage"):
+            raise TypeError("gauge (path following) needs a Model I material (abrakit.materials.ModelIDamage)")
+        ends = [np.asarray(basis.nodal_dofs)[0, np.abs(mesh.p[0] - length * a) <= 0.5 * h + 1e-12 * length]
+                for a in (0.5 + gauge / 2, 0.5 - gauge / 2)]
+        solver = ModelIPathFollowingSolver(kin, material, conditions, method="opening", opening=tuple(ends),
+                                           path=PathControl(initial=step, maximum=step, max_ratio=1.0))
+        res = solver.run(progress=False, stop_force=0.05)
+        c = res.curves
+        return BarRun(name, n_elements, c["u_end"], c["F_end"], res.external_work, res.dissipated_energy, x, res.f,
+                      True, _time.perf_counter() - t0, 0, res)
     if hasattr(material, "update_damage"):
         solver = ModelISolver(kin, material, conditions, control=control, damage_scheme=damage_scheme)
         res = solver.run()
         c = res.curves
         return BarRun(name, n_elements, c["u_end"], c["F_end"], float(c["external_work"][-1]),
                       float(c["dissipated_energy"][-1]), x, res.f, res.completed, _time.perf_counter() - t0,
-                      res.jumps)
+                      res.jumps, res)
     prescribed = np.concatenate([c.dofs for c in conditions])
 
     def loading(ctx):  # external work of the step with the reactions of the last converged step, Eq. (6.97)

@@ -13,10 +13,12 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..fem import StepControl
+from ..fem import PathControl, StepControl
+from ..fem.solver import StepFailed
 from ..materials import TABLE_7_1, ModelIDamage
 from ..validation import check_option, check_positive
 from .model_one_fe import ModelISolver
+from .model_one_path import ModelIPathFollowingSolver
 from .model_two_fe import run_model_two
 from .specimens import Specimen
 
@@ -53,13 +55,19 @@ class _Stop(Exception):
 
 
 def run_specimen(specimen: Specimen, model: str, parameter: float, *, step: float = 0.002,
-                 stop_fraction: float | None = 0.1) -> SpecimenRun:
+                 stop_fraction: float | None = 0.1, gauge: tuple[float, float] | None = None,
+                 path: PathControl | None = None) -> SpecimenRun:
     """Load ``specimen`` to its ``displacement`` in equal increments ``step`` (mm) with Model I or Model II.
 
     ``model="II"``: :func:`abrakit.damage.model_two_fe.run_model_two` with ``alpha = parameter`` (Table 7.2).
     ``model="I"``: :class:`abrakit.damage.model_one_fe.ModelISolver` with ``beta = parameter`` and Table 7.1
     (implicit return map, consistent tangent at frozen f). Both stop once the force has fallen below
     ``stop_fraction`` of its peak; cutbacks may add steps.
+
+    ``gauge=(low, high)`` (mm, Model I only): follow the path instead
+    (:class:`~abrakit.damage.model_one_path.ModelIPathFollowingSolver`, opening of the extensometer
+    :meth:`Specimen.gauge`; ``path`` default: first load step 10 ``step``, opening steps at most 20 times the
+    first), through any snap-back, until ``stop_fraction`` of the peak.
     """
     check_option("model", model, ("I", "II"))
     steps = max(1, int(round(specimen.displacement / check_positive("step", step))))
@@ -71,6 +79,10 @@ def run_specimen(specimen: Specimen, model: str, parameter: float, *, step: floa
 
     material = ModelIDamage(**{**TABLE_7_1, "beta": parameter}, integration="implicit", tangent="consistent")
     h = 1.0 / steps
+    if gauge is not None:
+        check_option("model", model, ("I",))
+        return _follow(specimen, material, gauge, path or PathControl(initial=10 * h, maximum=10 * h, max_ratio=20.0,
+                                                                      max_steps=20000), stop_fraction)
     solver = ModelISolver(specimen.basis, material, specimen.dirichlet,
                           control=StepControl(initial=h, maximum=h, minimum=h * 1e-3))
     name, scale, last, peak = specimen.loaded, specimen.force_scale, [None], [0.0]
@@ -93,3 +105,19 @@ def run_specimen(specimen: Specimen, model: str, parameter: float, *, step: floa
     return SpecimenRun("I", parameter, c[f"u_{name}"], scale * c[f"F_{name}"], 1.0 - res.f, res.alpha_p, status,
                        res.message, len(c["step"]) - 1, int(np.sum(c["iterations"])), int(res.cutbacks), seconds,
                        res)
+
+
+def _follow(specimen: Specimen, material, gauge, path: PathControl, stop_fraction) -> SpecimenRun:
+    """Model I on ``specimen`` under path following by the opening of ``gauge`` (see :func:`run_specimen`)."""
+    solver = ModelIPathFollowingSolver(specimen.basis, material, specimen.dirichlet, method="opening",
+                                       opening=specimen.gauge(*gauge), path=path, max_sweeps=400)
+    status, message = "fractured", ""
+    try:
+        res = solver.run(stop_force=stop_fraction or 0.0, end=np.inf, progress=False)
+    except StepFailed as failure:      # keep the followed part of the path
+        status, message = "failed", str(failure)
+        res = solver.result_of(failure.result)
+    c, name = res.curves, specimen.loaded
+    return SpecimenRun("I", material.beta, c[f"u_{name}"], specimen.force_scale * c[f"F_{name}"], 1.0 - res.f,
+                       res.alpha_p, status, message, len(c["step"]) - 1, int(np.sum(c["iterations"])),
+                       int(res.solve.cutbacks), res.seconds, res)

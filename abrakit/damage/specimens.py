@@ -99,6 +99,18 @@ class Specimen:
     def loaded_dofs(self) -> np.ndarray:
         return next(c.dofs for c in self.dirichlet if c.name == self.loaded)
 
+    def gauge(self, low: float, high: float) -> tuple[np.ndarray, np.ndarray]:
+        """Extensometer between the heights ``low`` and ``high`` (mm): the y-DOFs of the node rows nearest to them,
+        (upper, lower), for the opening control of :class:`~abrakit.fem.PathFollowingSolver`."""
+        ys = self.mesh.p[1]
+        rows = []
+        for height in (high, low):
+            nearest = ys[np.argmin(np.abs(ys - height))]
+            rows.append(np.asarray(self.basis.nodal_dofs)[1, np.abs(ys - nearest) <= _TOL * max(1.0, abs(nearest))])
+        if rows[0].size == 0 or rows[1].size == 0 or np.intersect1d(*rows).size:
+            raise ValueError(f"gauge: low = {low} and high = {high} mm must pick two different node rows")
+        return rows[0], rows[1]
+
     def summary(self) -> str:
         return (f"{self.name} ({self.level}): {self.elements} elements, {self.basis.N} DOF, {self.formulation}, "
                 f"t = {self.thickness:g} mm, u = {self.displacement:g} mm on '{self.loaded}'")

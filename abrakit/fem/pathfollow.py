@@ -41,8 +41,9 @@ Limits, measured (``tests/test_damage_model_two.py``): G is the dissipated energ
 With plasticity, elastic unloading from a plastic state also has G > 0, so dissipation control may follow an
 unloading branch instead of damaging (Model II on the double notch does); arc length or opening control follow such
 materials (Model II under arc length reaches the displacement-controlled peak to 0.2 %). The staggered damage update
-of Model I (damage after the displacement iterations) is not part of the Newton system, so no constraint can steer
-its damage.
+of Model I (damage after the displacement iterations) is not part of the Newton system; its path follower
+(:class:`abrakit.damage.model_one_path.ModelIPathFollowingSolver`) repeats Newton solve and damage update within
+each step until they agree.
 """
 
 from __future__ import annotations
@@ -185,8 +186,8 @@ class OpeningControl(LinearConstraint):
     def gradient(self, p):
         return self.weights[p.free], float(self.weights @ p.u_hat)
 
-    def satisfied(self, p, scale):
-        return abs(self.residual(p)) <= 1e-10 * abs(self.tau)
+    def satisfied(self, p, scale):     # floor: the round-off of c·u, or a cut-back τ could never be met
+        return abs(self.residual(p)) <= 1e-10 * abs(self.tau) + 1e-14 * float(np.abs(self.weights) @ np.abs(p.u))
 
 
 @dataclass
@@ -320,20 +321,24 @@ class PathFollowingSolver(Solver):
         return u
 
     # ---- one constrained step ---------------------------------------------------------------------------------
-    def constrained_newton(self, constraint, u0, lam0, state_old, f_int0, step: int, start, previous=None
-                           ) -> tuple:
+    def constrained_newton(self, constraint, u0, lam0, state_old, f_int0, step: int, start, previous=None,
+                           guess=None) -> tuple:
         """Newton iterations of the bordered system from the converged (u0, λ0); ``start`` = (response, hook
         tangents) of the converged iterate, whose consistent tangent gives the predictor (the tangent of the new
-        state at the same strain would be the secant one of an unloading point). Returns ``(u, λ, response,
-        f_int, extra_K, iterations, residuals)`` or raises :class:`NewtonFailure`."""
+        state at the same strain would be the secant one of an unloading point). ``guess`` = (u, λ): start the
+        iterations there instead of at the predictor (a staggered scheme re-solving the same step). Returns
+        ``(u, λ, response, f_int, extra_K, iterations, residuals)`` or raises :class:`NewtonFailure`."""
         opts, free = self.newton_options, self.constraints.free
         v0, P0 = self.load_pair(u0, lam0, f_int0)
         residuals: list[float] = []
-        K, K_II = self.tangent(*start, u0)
-        point = PathPoint(u0, lam0, v0, P0, u0, lam0, v0, P0, K, self.u_hat, self.f_hat, free, previous)
-        du, dlam = self._bordered(constraint, point, K_II, None, residuals)
-        lam = lam0 + dlam
-        u = self._at(u0[free] + du, lam, u0)
+        if guess is None:
+            K, K_II = self.tangent(*start, u0)
+            point = PathPoint(u0, lam0, v0, P0, u0, lam0, v0, P0, K, self.u_hat, self.f_hat, free, previous)
+            du, dlam = self._bordered(constraint, point, K_II, None, residuals)
+            lam = lam0 + dlam
+            u = self._at(u0[free] + du, lam, u0)
+        else:
+            u, lam = guess[0].copy(), float(guess[1])
         for k in range(1, opts.max_iterations + 1):
             ctx = StepContext(step, lam, lam - lam0, lam * self.duration, (lam - lam0) * self.duration, k, u, u0,
                               state_old, f_int0)
@@ -350,7 +355,7 @@ class PathFollowingSolver(Solver):
             tol = opts.residual_tol * scale + opts.absolute_force
             if norm <= tol and constraint.satisfied(point, scale):
                 return u, lam, response, f_int, extra_K, k, residuals
-            if k >= opts.divergence_check_after and min(residuals[:-2]) < min(residuals[-2:]):
+            if k >= opts.divergence_check_after and norm > tol and min(residuals[:-2]) < min(residuals[-2:]):
                 raise NewtonFailure(f"diverging (residual {norm:.3e} N after {k} iterations)", residuals)
             try:
                 point.K, K_II = self.tangent(response, extra_K, u)
