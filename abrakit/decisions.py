@@ -1,0 +1,114 @@
+"""Every decision the toolkit takes where the seed is ambiguous, misprinted or silent, with its reason and its test.
+
+The book's page "Decisions" renders :data:`DECISIONS`; ``tests/test_decisions.py`` checks that every test named
+here exists, so a decision cannot lose the test that pins it without the suite noticing. Each entry also stands in
+the chapter that uses it and in the docstring of the code that implements it.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+__all__ = ["DECISIONS", "Decision", "markdown"]
+
+
+@dataclass(frozen=True)
+class Decision:
+    """``topic``: what is decided; ``seed``: what the seed prints or leaves open; ``ours``: what the toolkit does;
+    ``reason``: why; ``tests``: ``"tests/<file>.py::<test>"`` or ``"benchmarks/<file>.py"`` entries that pin it;
+    ``chapter``: the book chapter (file name without ``.md``) where it is explained."""
+
+    topic: str
+    seed: str
+    ours: str
+    reason: str
+    tests: tuple[str, ...]
+    chapter: str
+    kind: str = "misprint"   # "misprint", "ambiguity", "reconstruction" or "choice"
+
+
+DECISIONS: tuple[Decision, ...] = (
+    Decision("switch of the rate law, Eq. (2.112)", "|p| > r₂", "|p| > r₁",
+             "r₂ is a viscosity (MPa s), r₁ the threshold (MPa); the printed switch compares unlike units and lets "
+             "λ fall for r₂ < |p| < r₁", ("tests/test_evolution.py::test_eq_2112_switches_on_r1_not_r2",), "evolution"),
+    Decision("explicit update, Eq. (4.53)", "λᵐ + Δt/r₂ p − r₁", "λᵐ + Δt/r₂ [|p| − r₁]₊",
+             "as printed λ moves without driving force (p = 0)",
+             ("tests/test_evolution.py::test_eq_453_as_printed_moves_lambda_without_driving_force",), "evolution"),
+    Decision("yield function, Table 6.1", "‖dev σ‖ − (r_p − K_H α_p)", "‖dev σ‖ − (r_p + K_H α_p)",
+             "K_H > 0 must harden, as Eqs. (6.53) and (6.61) do",
+             ("tests/test_materials_plasticity.py::test_uniaxial_yield_stress_and_hardening_modulus_of_the_yield_"
+              "function",), "plasticity"),
+    Decision("stress of the operator split, Eq. (6.62)", "σᵐ + fᵐ E:(εᵐ⁺¹ − ε_pᵐ)", "fᵐ E:(εᵐ⁺¹ − ε_pᵐ⁺¹), as (6.40)",
+             "the printed form adds the old stress to a total-strain expression",
+             ("tests/test_materials_damage.py::test_model_one_returns_exactly_the_operator_split_tangent_f_m_E",),
+             "plasticity"),
+    Decision("range of Model I's damage variable", "d ∈ [0, 1)", "d ∈ [0, 13.8], f = e⁻ᵈ ≥ 10⁻⁶",
+             "f = e⁻ᵈ allows any d ≥ 0; capping d below 1 would keep 37 % of the stiffness in a crack",
+             ("tests/test_damage_model_one.py::test_uniform_bar_follows_the_closed_form_and_keeps_f_in_range",
+              "tests/test_materials_base.py::test_invalid_parameters_raise_value_error_naming_them"), "plasticity",
+             "ambiguity"),
+    Decision("damage derivative of the ERVE stiffness, Eqs. (6.102), (6.105)", "f̄ f′/(n f²)", "f̄² f′/(n f²), as (6.94)",
+             "the derivative of f̄ = n / Σ 1/f_i; the printed one misses a factor f̄",
+             ("tests/test_materials_damage.py::test_model_two_seed_tangent_6_105",
+              "tests/test_materials_damage.py::test_erve_identities_6_87_to_6_94"), "plasticity"),
+    Decision("Model I's damage update, Algorithm 1", "one Newton step per element, Λ_f from fᵐ",
+             "the coupled complementarity problem of all elements (the seed's scheme on request)",
+             "the seed's update lags by β/(Ψ̄₀h²) per step, which reads as mesh dependence",
+             ("tests/test_damage_model_one.py::test_seed_scheme_lags_and_converges_to_the_coupled_one_with_the_step",
+              "tests/test_damage_model_one.py::test_coupled_equals_the_seed_update_for_a_single_active_element"),
+             "model_one", "choice"),
+    Decision("Model II's rate limit under path following", "external power ℓ_ext at a prescribed load",
+             "|work of the reactions| of the step", "the load factor is an unknown, so the power may change sign "
+             "through a snap-back", ("tests/test_damage_model_two.py::test_arc_length_follows_model_two_to_fracture_"
+                                     "like_displacement_control",), "fem", "ambiguity"),
+    Decision("stiffness identification, Eqs. (5.20), (5.21)", "published form (α = 1)",
+             "both: ``published`` and the variationally consistent form (÷ α²)",
+             "the published form violates its own kinematic constraint for an affine field and can exceed the "
+             "affine (Voigt) bound", ("tests/test_identification.py::test_affine_field_violates_the_published_"
+                                     "constraint_and_meets_the_consistent_one",
+                                     "tests/test_identification.py::test_published_modulus_exceeds_the_affine_upper_"
+                                     "bound_above_a_critical_ratio"), "identification", "ambiguity"),
+    Decision("contact area of Table 8.4", "not stated", "A_c = 114.62 mm², derived from the table",
+             "one area reproduces every printed rate to its printed digits; the midpoint of the admissible band",
+             ("tests/test_wear.py::test_scaling_area_is_derived_from_the_table",
+              "tests/test_wear.py::test_table_8_4_every_row_within_one_percent_and_to_the_printed_digits"), "wear",
+             "reconstruction"),
+    Decision("units of α in Table 8.2", "1/s", "1/(N mm), as Table 7.2 and Eq. (6.98)",
+             "the rate limit ḋ ≤ α ℓ_ext needs 1/(N mm) to be dimensionless in d",
+             ("tests/test_scratch_scene.py::test_model_two_damage_obeys_the_rate_limit_of_the_tip_work",), "scratch"),
+    Decision("double-notched strip, Fig. 7.8 (lost)", "dimensions in a missing figure",
+             "50 × 100 mm, notches 10 × 2 mm at mid-height ± 10 mm",
+             "Model I's band joins the notch tips from β ≈ 4 on this geometry, at β = 1 with notches ± 5 mm",
+             ("benchmarks/bench_double_notch_length.py",
+              "tests/test_damage_specimens.py::test_conditions_and_loaded_edge"), "comparison", "reconstruction"),
+    Decision("grip of the Chapter 7 specimens", "a prescribed displacement of the top edge",
+             "kept: uniform displacement, the edge does not rotate",
+             "it is what the seed prescribes; it damages the sharp notch's top-right corner, which a traction "
+             "does not", ("tests/test_damage_model_two.py::test_sharp_notch_corner_damage_comes_from_the_grip",
+                          "benchmarks/bench_sharp_notch_edge.py"), "comparison", "choice"),
+    Decision("Model I under path following", "Algorithm 1 under displacement control only",
+             "Newton and damage update repeated within a path-following step until they agree",
+             "the staggered update passes snap-backs as jumps that lose energy; the converged sweeps follow them",
+             ("tests/test_damage_model_one_path.py::test_snap_back_is_followed_without_cutbacks_where_displacement_"
+              "control_jumps",), "model_one", "choice"),
+    Decision("depths of the 2 N grains", "not stated", "interpolated in F_N between bracketing F-bar runs",
+             "a fully plastic contact carries F ∝ 2Rd; bracketing runs need no re-run when a guess misses",
+             ("benchmarks/bench_scratch_steady.py",), "scratch_volume", "reconstruction"),
+    Decision("kinematics of the scratch", "small strain (implied)", "finite strain, F-bar hexahedra, logarithmic J2",
+             "strains under the tip reach order one; small strain changes f_ab by up to 0.07 between meshes",
+             ("tests/test_finite_strain.py::test_fbar_tangent_is_the_derivative_of_its_force",), "scratch_volume",
+             "choice"),
+)
+
+
+def markdown(decisions=DECISIONS) -> str:
+    """The decisions as a Markdown table (topic, seed, ours, reason, pinned by, chapter)."""
+    def cell(text: str) -> str:       # a bar inside a cell (|p|) would end it
+        return text.replace("|", "\\|")
+
+    rows = ["| topic | seed | ours | reason | pinned by | chapter |", "|---|---|---|---|---|---|"]
+    for d in decisions:
+        tests = "<br>".join(f"`{t.split('::')[-1]}`" if "::" in t else f"`{t}`" for t in d.tests)
+        rows.append(f"| {cell(d.topic)} ({d.kind}) | {cell(d.seed)} | {cell(d.ours)} | {cell(d.reason)} | {tests} "
+                    f"| {d.chapter} |")
+    return "\n".join(rows)
