@@ -41,6 +41,36 @@ def _load(results: Path, name: str):
     return json.loads(path.read_text()) if path.exists() else None
 
 
+def stored_result(name: str, *, results: str | Path = RESULTS, fallback: bool = True) -> dict | None:
+    """The stored result ``<results>/<name>.json`` of ``benchmarks/bench_<name>.py``, for the book's chapters.
+
+    When it is missing, this says so and names the command that produces it; with ``fallback`` (and the
+    benchmark script beside the results) it then runs the benchmark's quick mode into a temporary folder and
+    returns that result instead, so a chapter still executes (minutes, not the study's hours). Returns ``None``
+    when there is neither the file nor a script to run.
+    """
+    stored = _load(results, name)
+    if stored is not None:
+        return stored
+    script = Path(results).parent / f"bench_{name}.py"
+    print(f"{Path(results).name}/{name}.json is missing: `python benchmarks/bench_{name}.py` produces it.")
+    if not (fallback and script.is_file()):
+        return None
+    import subprocess
+    import sys
+    import tempfile
+
+    outdir = Path(tempfile.mkdtemp(prefix=f"abrakit_{name}_"))
+    print(f"Running its quick mode now (`python benchmarks/bench_{name}.py --quick`) into {outdir}; the numbers "
+          "below come from that smaller study.", flush=True)
+    subprocess.run([sys.executable, str(script), "--quick", "--outdir", str(outdir)], check=True,
+                   cwd=script.parent, stdout=subprocess.DEVNULL)
+    for candidate in (f"{name}_quick.json", f"{name}.json"):
+        if (outdir / candidate).exists():
+            return json.loads((outdir / candidate).read_text())
+    raise FileNotFoundError(f"bench_{name}.py --quick wrote no {name}.json into {outdir}")
+
+
 def _missing(where, quantity, seed, chapter, script) -> Claim:
     return Claim(where, quantity, seed, f"run `python benchmarks/{script}`", "—", "not computed", chapter)
 
