@@ -51,6 +51,7 @@ def write_json(path, data) -> Path:
     with tempfile.NamedTemporaryFile("w", dir=path.parent, prefix=f".{path.name}.", suffix=".tmp",
                                      delete=False) as handle:
         handle.write(text)
+    os.chmod(handle.name, 0o644)          # a temporary file is private (0600); a result file is not
     os.replace(handle.name, path)
     return path
 
