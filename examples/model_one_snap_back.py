@@ -37,9 +37,9 @@ def main(outdir="."):
         summary[name] = {"peak_N": run.peak, "u_peak_mm": float(run.u[top]),
                          "smallest_u_after_peak_mm": float(run.u[top:].min()), "jumps": run.jumps,
                          "energy_missed": float(missed / run.external_work)}
+        share = 100 * missed / run.external_work
         print(f"{name:12s}: peak {run.peak:.1f} N at u = {1e3 * run.u[top]:.2f} um, smallest u after it "
-              f"{1e3 * run.u[top:].min():.2f} um, {run.jumps} jumps, budget misses {100 * missed / run.external_work:.0f} "
-              f"% of the work")
+              f"{1e3 * run.u[top:].min():.2f} um, {run.jumps} jumps, budget misses {share:.0f} % of the work")
     return summary
 
 
