@@ -17,7 +17,12 @@ angle of the largest one (0 degrees: horizontal, 90: vertical), the transition r
 softening displacement (peak to half the peak force) and the largest alpha_p; all from
 ``abrakit.damage.metrics.specimen_metrics``. ``--reanalyse`` recomputes them from the stored runs.
 
-    python benchmarks/bench_damage.py [--quick] [--outdir DIR] [--models I II] [--specimens ...] [--reanalyse]
+    python benchmarks/bench_damage.py [--quick] [--outdir DIR] [--models I II] [--specimens ...]
+                                      [--formulation plane_strain|extruded] [--reanalyse]
+
+``--formulation extruded`` builds the specimens as the seed did, one hexahedron through the 3 mm plate (plane
+stress in effect); the default is plane strain with the forces of the 3 mm plate. The stored extruded study is
+in ``benchmarks/results/damage_extruded/``.
 
 writes ``damage.csv`` (one row per run, flushed as it goes), ``damage.json`` (mesh-independence metrics per case,
 cost of Model I vs Model II, how and when it was produced), ``damage.png`` (runtime against curve error; cost per
@@ -45,10 +50,10 @@ LEVELS = {"full": ("coarse", "medium", "fine"), "quick": (250, 500, 1000)}
 STEPS = (0.002, 0.004)  # mm per load step: small (reference) and twice as large
 STOP_FRACTION = 0.1
 DISPLACEMENT = 0.3  # mm, enough for every specimen to fall below 10 % of its peak
-COLUMNS = ["specimen", "model", "regularisation", "parameter", "level", "elements", "dofs", "step_mm", "status",
-           "steps", "newton_iterations", "cutbacks", "seconds", "seconds_per_step", "peak_force_N", "u_at_peak_mm",
-           "peak_error", "curve_distance", "work_common_Nmm", "final_u_mm", "band_width_mm", "band_angle_deg",
-           "damaged_pieces", "transition_ratio", "softening_mm", "max_alpha_p"]
+COLUMNS = ["specimen", "formulation", "model", "regularisation", "parameter", "level", "elements", "dofs", "step_mm",
+           "status", "steps", "newton_iterations", "cutbacks", "seconds", "seconds_per_step", "peak_force_N",
+           "u_at_peak_mm", "peak_error", "curve_distance", "work_common_Nmm", "final_u_mm", "band_width_mm",
+           "band_angle_deg", "damaged_pieces", "transition_ratio", "softening_mm", "max_alpha_p"]
 
 
 def case_name(spec, model, strength, level, step):
@@ -62,7 +67,8 @@ TIMING = ("status", "steps", "newton_iterations", "cutbacks", "seconds", "second
 def analyse(meta: dict, u, F, stiffness_loss, alpha_p, reference) -> dict:
     """The CSV row of one run: ``meta`` (case, mesh, timing) plus the curve and field metrics against
     ``reference = (u_ref, F_ref)`` (the finest mesh at the small step)."""
-    sp = specimen(meta["specimen"], _level(meta["level"]), displacement=DISPLACEMENT)
+    sp = specimen(meta["specimen"], _level(meta["level"]), displacement=DISPLACEMENT,
+                  formulation=meta.get("formulation", "plane_strain"))
     m = M.specimen_metrics(sp, u, F, stiffness_loss)
     F_ref = M.peak(*reference)[0]
     return {**meta, "elements": sp.elements, "dofs": int(sp.basis.N),
@@ -85,7 +91,7 @@ def _order(levels):
 
 
 def main(outdir: Path = RESULTS, quick: bool = False,
-         models=("I", "II"), specimens=tuple(SPECIMENS)) -> dict:
+         models=("I", "II"), specimens=tuple(SPECIMENS), formulation: str = "plane_strain") -> dict:
     outdir = Path(outdir)
     runs_dir = outdir / f"{NAME}_runs"
     runs_dir.mkdir(parents=True, exist_ok=True)
@@ -100,11 +106,12 @@ def main(outdir: Path = RESULTS, quick: bool = False,
                 for strength, parameter in REGULARISATION[model].items():
                     reference = None
                     for level, step in _order(levels):
-                        sp = specimen(spec_name, level, displacement=DISPLACEMENT)
+                        sp = specimen(spec_name, level, displacement=DISPLACEMENT, formulation=formulation)
                         run = run_specimen(sp, model, parameter, step=step, stop_fraction=STOP_FRACTION)
                         u, F = np.asarray(run.u), np.asarray(run.F)
                         reference = (u, F) if reference is None else reference
-                        meta = {"specimen": spec_name, "model": model, "regularisation": strength,
+                        meta = {"specimen": spec_name, "formulation": formulation, "model": model,
+                                "regularisation": strength,
                                 "parameter": parameter, "level": str(level), "step_mm": step, "status": run.status,
                                 "steps": run.steps, "newton_iterations": run.iterations, "cutbacks": run.cutbacks,
                                 "seconds": run.seconds, "seconds_per_step": run.seconds / max(run.steps, 1)}
@@ -120,7 +127,7 @@ def main(outdir: Path = RESULTS, quick: bool = False,
     summary = {"mode": mode, "started": started, "finished": datetime.datetime.now().isoformat(timespec="seconds"),
                "wall_time_s": time.perf_counter() - t_start, "machine": platform.platform(),
                "python": platform.python_version(), "levels": [str(lv) for lv in levels], "steps_mm": list(STEPS),
-               "stop_fraction": STOP_FRACTION, "displacement_mm": DISPLACEMENT}
+               "stop_fraction": STOP_FRACTION, "displacement_mm": DISPLACEMENT, "formulation": formulation}
     return finish(outdir, records, summary)
 
 
@@ -154,8 +161,9 @@ def reanalyse(outdir: Path = RESULTS) -> dict:
     levels = old["levels"]
     references, records = {}, []
     for r in rows:
-        meta = {"specimen": r["specimen"], "model": r["model"], "regularisation": r["regularisation"],
-                "parameter": float(r["parameter"]), "level": r["level"], "step_mm": float(r["step_mm"]),
+        meta = {"specimen": r["specimen"], "formulation": r.get("formulation", "plane_strain"),
+                "model": r["model"], "regularisation": r["regularisation"], "parameter": float(r["parameter"]),
+                "level": r["level"], "step_mm": float(r["step_mm"]),
                 "status": r["status"], **{k: float(r[k]) for k in TIMING[1:]}}
         for k in ("steps", "newton_iterations", "cutbacks"):
             meta[k] = int(meta[k])
@@ -289,11 +297,14 @@ if __name__ == "__main__":
     parser.add_argument("--outdir", type=Path, default=RESULTS)
     parser.add_argument("--models", nargs="+", default=["I", "II"], choices=["I", "II"])
     parser.add_argument("--specimens", nargs="+", default=list(SPECIMENS), choices=list(SPECIMENS))
+    parser.add_argument("--formulation", default="plane_strain", choices=["plane_strain", "extruded"],
+                        help="plane strain x 3 mm, or the seed's one element through the 3 mm plate")
     parser.add_argument("--reanalyse", action="store_true",
                         help="recompute the metrics of the stored runs in OUTDIR without rerunning them")
     args = parser.parse_args()
     if args.reanalyse:
         result = reanalyse(args.outdir)
     else:
-        result = main(args.outdir, quick=args.quick, models=tuple(args.models), specimens=tuple(args.specimens))
+        result = main(args.outdir, quick=args.quick, models=tuple(args.models), specimens=tuple(args.specimens),
+                      formulation=args.formulation)
     print({k: v for k, v in result.items() if k not in ("cases",)})
