@@ -183,3 +183,16 @@ def test_driving_energy_and_its_gradient(kind):
         [(material.driving_energy(eps + h * e, kind) - material.driving_energy(eps - h * e, kind)) / (2 * h)
          for e in np.eye(6)], axis=-1)
     np.testing.assert_allclose(material.driving_energy_gradient(eps, kind), numeric, rtol=1e-6, atol=1e-6)
+
+
+@pytest.mark.parametrize("nu", [0.0, 0.2, 0.33, 0.4])
+def test_tension_energy_of_pure_shear_is_eq_6_56_not_the_positive_part_of_the_trace(nu):
+    """Psi0+ = 1/2 eps+ : E : eps+ (Eq. 6.56) in pure shear is (lambda + 2 mu) gamma^2 / 8, i.e. the fraction
+    (1 - nu) / (2 (1 - 2 nu)) of Psi0: 1/2 only for nu = 0, above 1 for nu > 1/3 (the split of Miehe et al., with
+    the positive part of the trace, would give 1/2 for every nu)."""
+    material = LinearElastic(200000.0, nu)
+    eps = np.zeros((3, 3))
+    eps[0, 1] = eps[1, 0] = 1e-3
+    mandel = T.to_mandel(eps)
+    ratio = material.tension_energy(mandel) / material.elastic_energy(mandel)
+    assert ratio == pytest.approx((1 - nu) / (2 * (1 - 2 * nu)), rel=1e-12)
