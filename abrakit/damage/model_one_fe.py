@@ -209,6 +209,24 @@ def gradient_energy(f: np.ndarray, volumes: np.ndarray, laplacian: ElementLaplac
     return float(0.5 * beta * np.sum(volumes * np.sum(grad**2, axis=1)))
 
 
+def check_model_one_material(material) -> None:
+    """Raise ``TypeError`` unless ``material`` offers what the Model I solvers call (a ModelIDamage does)."""
+    for attribute in ("update_damage", "beta", "r_d", "stored_energy", "dissipation"):
+        if not hasattr(material, attribute):
+            raise TypeError(f"material must be a Model I material (abrakit.materials.ModelIDamage), got "
+                            f"{type(material).__name__} without {attribute!r}")
+
+
+def mesh_laplacian(kin, material, laplacian: ElementLaplacian | None = None) -> ElementLaplacian | None:
+    """The element Laplacian of ``kin``'s mesh: ``laplacian`` checked against the element count, or built when
+    the material has ``beta > 0`` (``None`` for a local model)."""
+    if laplacian is None and material.beta > 0.0:
+        laplacian = element_laplacian(kin.basis.mesh)
+    if laplacian is not None and laplacian.matrix.shape[0] != kin.nel:
+        raise ValueError(f"laplacian: built for {laplacian.matrix.shape[0]} elements, the mesh has {kin.nel}")
+    return laplacian
+
+
 @dataclass
 class ModelIResult:
     """History of a Model I run; one entry per converged step in ``curves`` (index 0: the start).
@@ -302,10 +320,7 @@ class ModelISolver(Solver):
     def __init__(self, basis, material, dirichlet: Sequence = (), *, max_dd: float = 0.25, snap_back: str = "pass",
                  jump_step: float | None = None, damage_scheme: str = "coupled",
                  laplacian: ElementLaplacian | None = None, **solver_options):
-        for attribute in ("update_damage", "beta", "r_d", "stored_energy", "dissipation"):
-            if not hasattr(material, attribute):
-                raise TypeError(f"material must be a Model I material (abrakit.materials.ModelIDamage), got "
-                                f"{type(material).__name__} without {attribute!r}")
+        check_model_one_material(material)
         super().__init__(basis, FrozenDamage(material), dirichlet, **solver_options)
         self.model = material
         self.max_dd = check_range("max_dd", max_dd, 0.0, None, low_open=True)
@@ -313,12 +328,7 @@ class ModelISolver(Solver):
         self.damage_scheme = check_option("damage_scheme", damage_scheme, DAMAGE_SCHEMES)
         floor = self.control.minimum / self.control.cutback
         self.jump_step = floor if jump_step is None else check_range("jump_step", jump_step, floor, None)
-        if laplacian is None and material.beta > 0.0:
-            laplacian = element_laplacian(self.kin.basis.mesh)
-        if laplacian is not None and laplacian.matrix.shape[0] != self.kin.nel:
-            raise ValueError(f"laplacian: built for {laplacian.matrix.shape[0]} elements, the mesh has "
-                             f"{self.kin.nel}")
-        self.laplacian = laplacian
+        self.laplacian = mesh_laplacian(self.kin, material, laplacian)
         self.volumes = self.kin.dx.sum(axis=1)
         self._step, self._rejected = _Step(), None
 

@@ -40,8 +40,15 @@ import numpy as np
 from ..fem.pathfollow import PathFollowingSolver
 from ..fem.solver import NewtonFailure
 from ..validation import check_range
-from .laplacian import ElementLaplacian, element_laplacian
-from .model_one_fe import FrozenDamage, damage_update, element_mean, gradient_energy
+from .laplacian import ElementLaplacian
+from .model_one_fe import (
+    FrozenDamage,
+    check_model_one_material,
+    damage_update,
+    element_mean,
+    gradient_energy,
+    mesh_laplacian,
+)
 
 __all__ = ["ModelIPathFollowingSolver", "ModelIPathResult"]
 
@@ -97,22 +104,14 @@ class ModelIPathFollowingSolver(PathFollowingSolver):
     def __init__(self, basis, material, dirichlet: Sequence = (), *, damage_tol: float = 1e-6,
                  max_sweeps: int = 100, target_sweeps: int = 8, anderson: int = 5,
                  laplacian: ElementLaplacian | None = None, **options):
-        for attribute in ("update_damage", "beta", "r_d", "stored_energy", "dissipation"):
-            if not hasattr(material, attribute):
-                raise TypeError(f"material must be a Model I material (abrakit.materials.ModelIDamage), got "
-                                f"{type(material).__name__} without {attribute!r}")
+        check_model_one_material(material)
         super().__init__(basis, FrozenDamage(material), dirichlet, **options)
         self.model = material
         self.damage_tol = check_range("damage_tol", damage_tol, 0.0, 1.0, low_open=True, high_open=True)
         self.max_sweeps = int(check_range("max_sweeps", max_sweeps, 1, None))
         self.anderson = int(check_range("anderson", anderson, 0, None))
         self.target_sweeps = int(check_range("target_sweeps", target_sweeps, 1, self.max_sweeps))
-        if laplacian is None and material.beta > 0.0:
-            laplacian = element_laplacian(self.kin.basis.mesh)
-        if laplacian is not None and laplacian.matrix.shape[0] != self.kin.nel:
-            raise ValueError(f"laplacian: built for {laplacian.matrix.shape[0]} elements, the mesh has "
-                             f"{self.kin.nel}")
-        self.laplacian = laplacian
+        self.laplacian = mesh_laplacian(self.kin, material, laplacian)
         self.sweeps: list[int] = []
         self.stalled = 0
 
