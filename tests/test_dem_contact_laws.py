@@ -97,6 +97,17 @@ def test_turn_into_plane_keeps_length_and_is_in_plane(values):
     assert abs(dot(out, n)[0]) <= 1e-9 * np.linalg.norm(vec)
 
 
+def test_a_spring_nearly_along_the_new_normal_is_turned_into_the_plane_to_round_off():
+    """Found by the property test above: spring (0, 4, 0), normal along (2.93e-7, 5, 0). Its in-plane remainder is
+    6e-8 of its length; one projection left 2e-9 |vec| along n after the rescaling, two leave round-off."""
+    vec = np.array([[0.0], [4.0], [0.0]])
+    n = np.array([[2.93e-7], [5.0], [0.0]])
+    n /= np.linalg.norm(n)
+    out = turn_into_plane(vec, n)
+    assert np.linalg.norm(out) == pytest.approx(4.0, rel=1e-9)
+    assert abs(dot(out, n)[0]) <= 1e-12 * 4.0
+
+
 def test_cross_matches_numpy():
     rng = np.random.default_rng(0)
     a, b = rng.normal(size=(3, 7)), rng.normal(size=(3, 7))

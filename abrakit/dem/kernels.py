@@ -38,8 +38,9 @@ def _linear_law(U, n0, n1, n2, r0, r1, r2, f0, f1, f2, kn, kt, mu, beta_n, beta_
         touching = True
     # tangential spring turned into the contact plane, then ΔF^t = −K^t V^t Δt, Eq. (4.7)
     before = math.sqrt(f0 * f0 + f1 * f1 + f2 * f2)
-    fdn = f0 * n0 + f1 * n1 + f2 * n2
-    f0, f1, f2 = f0 - fdn * n0, f1 - fdn * n1, f2 - fdn * n2
+    for _ in range(2):                                               # twice, as turn_into_plane
+        fdn = f0 * n0 + f1 * n1 + f2 * n2
+        f0, f1, f2 = f0 - fdn * n0, f1 - fdn * n1, f2 - fdn * n2
     after = math.sqrt(f0 * f0 + f1 * f1 + f2 * f2)
     scale = before / after if after > PLANE_TOL * before else 0.0    # as turn_into_plane
     f0, f1, f2 = f0 * scale - kt * dt * t0, f1 * scale - kt * dt * t1, f2 * scale - kt * dt * t2
