@@ -209,6 +209,20 @@ def gradient_energy(f: np.ndarray, volumes: np.ndarray, laplacian: ElementLaplac
     return float(0.5 * beta * np.sum(volumes * np.sum(grad**2, axis=1)))
 
 
+def model_one_energies(model, state: dict, dx: np.ndarray, laplacian: ElementLaplacian | None,
+                       external: float) -> dict:
+    """Stored, dissipated energy and the balance error of Eq. (6.23)-(6.25), integrated over the mesh (N mm):
+    ``external_work``, ``stored_energy`` (gradient included), ``gradient_energy``, ``dissipated_energy``,
+    ``damage_dissipation``, ``plastic_dissipation`` and ``energy_error`` = external - stored - dissipated."""
+    stored = float(np.sum(dx * model.stored_energy(state)))
+    gradient = gradient_energy(element_damage_function(state), dx.sum(axis=1), laplacian, model.beta)
+    dissipated = float(np.sum(dx * model.dissipation(state)))
+    damage = float(np.sum(dx * model.r_d * state["d"]))
+    return {"external_work": external, "stored_energy": stored + gradient, "gradient_energy": gradient,
+            "dissipated_energy": dissipated, "damage_dissipation": damage,
+            "plastic_dissipation": dissipated - damage, "energy_error": external - stored - gradient - dissipated}
+
+
 def check_model_one_material(material) -> None:
     """Raise ``TypeError`` unless ``material`` offers what the Model I solvers call (a ModelIDamage does)."""
     for attribute in ("update_damage", "beta", "r_d", "stored_energy", "dissipation"):
@@ -329,7 +343,6 @@ class ModelISolver(Solver):
         floor = self.control.minimum / self.control.cutback
         self.jump_step = floor if jump_step is None else check_range("jump_step", jump_step, floor, None)
         self.laplacian = mesh_laplacian(self.kin, material, laplacian)
-        self.volumes = self.kin.dx.sum(axis=1)
         self._step, self._rejected = _Step(), None
 
     # ---- one load step of Algorithm 1 ----------------------------------------------------------------------------
@@ -431,15 +444,7 @@ class ModelISolver(Solver):
         return None if self.external_force is None else np.asarray(self.external_force(lam), dtype=float)
 
     def _energies(self, state: dict, external: float) -> dict:
-        """Stored, dissipated energy and the balance error of Eq. (6.23)-(6.25), integrated over the mesh (N mm)."""
-        dx, model = self.kin.dx, self.model
-        stored = float(np.sum(dx * model.stored_energy(state)))
-        gradient = gradient_energy(state["f"][:, 0], self.volumes, self.laplacian, model.beta)
-        dissipated = float(np.sum(dx * model.dissipation(state)))
-        damage = float(np.sum(dx * model.r_d * state["d"]))
-        return {"external_work": external, "stored_energy": stored + gradient, "gradient_energy": gradient,
-                "dissipated_energy": dissipated, "damage_dissipation": damage,
-                "plastic_dissipation": dissipated - damage, "energy_error": external - stored - gradient - dissipated}
+        return model_one_energies(self.model, state, self.kin.dx, self.laplacian, external)
 
     def _result(self, solve, rows, completed: bool, message: str, t0: float) -> ModelIResult:
         curves = {k: np.array([r[k] for r in rows]) for k in rows[0]}

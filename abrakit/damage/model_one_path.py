@@ -18,8 +18,8 @@ Newton solve of sweep k+1 starts from the solution of sweep k. The converged ste
 the coupled problem (to ``damage_tol``) *on the constraint*, so a constraint that grows monotonically through the
 snap-back -- an opening across the damage zone (``method="opening"``, indirect displacement control) or the arc
 length -- follows it. The damage does not jump: each step's change is whatever equilibrium on the constraint
-requires, and the step length adapts to the Newton iterations summed over the sweeps. A step whose sweeps do not
-settle in ``max_sweeps`` is retried with a shorter constraint (the path follower's cutback).
+requires, and the step length adapts to the number of sweeps and the first sweep's Newton iterations. A step
+whose sweeps do not settle in ``max_sweeps`` is retried with a shorter constraint (the path follower's cutback).
 
 Dissipation control suits Model I no better than Model II: the material is plastic too, and elastic unloading from
 a plastic state releases energy by the G of the dissipation constraint without damaging.
@@ -45,9 +45,10 @@ from .model_one_fe import (
     FrozenDamage,
     check_model_one_material,
     damage_update,
+    element_damage_function,
     element_mean,
-    gradient_energy,
     mesh_laplacian,
+    model_one_energies,
 )
 
 __all__ = ["ModelIPathFollowingSolver", "ModelIPathResult"]
@@ -129,7 +130,7 @@ class ModelIPathFollowingSolver(PathFollowingSolver):
         accepted and counted in ``stalled``.
         """
         iterations, residuals, best, best_sweep = 0, [], np.inf, 1
-        f_old = np.exp(-state_old["d"][:, 0])
+        f_old = element_damage_function(state_old)
         x, xs, gs = f_old, [], []
         for sweep in range(1, self.max_sweeps + 1):
             trial = state_old if sweep == 1 else {**state_old, "d": np.repeat(-np.log(x)[:, None], self.kin.nqp, 1)}
@@ -143,7 +144,7 @@ class ModelIPathFollowingSolver(PathFollowingSolver):
                                     self.laplacian, "coupled")
             except RuntimeError as exc:
                 raise NewtonFailure(str(exc), residuals) from exc
-            g = np.exp(-new["d"][:, 0])
+            g = element_damage_function(new)
             change = float(np.max(np.abs(g - x), initial=0.0))
             stalled = sweep - best_sweep >= STALL_SWEEPS and change <= STALL_FACTOR * self.damage_tol
             if change <= self.damage_tol or stalled:
@@ -192,19 +193,16 @@ class ModelIPathFollowingSolver(PathFollowingSolver):
     def result_of(self, solve) -> ModelIPathResult:
         """The :class:`ModelIPathResult` of a path follower's :class:`~abrakit.fem.SolveResult` (complete or the
         ``result`` of a :class:`~abrakit.fem.StepFailed`)."""
-        state, dx, model = solve.state, self.kin.dx, self.model
-        f = np.exp(-state["d"][:, 0])
-        curves = solve.curves
-        v, P = curves["v"], curves["P"]     # the work-conjugate load pair: W = sum 1/2 (P0 + P1) (v1 - v0)
-        work = float(np.sum(0.5 * (P[1:] + P[:-1]) * np.diff(v)))
-        stored = float(np.sum(dx * model.stored_energy(state)))
-        stored += gradient_energy(f, dx.sum(axis=1), self.laplacian, model.beta)
+        state, dx = solve.state, self.kin.dx
+        v, P = solve.curves["v"], solve.curves["P"]   # the work-conjugate load pair: W = sum 1/2 (P0 + P1) (v1 - v0)
+        energies = model_one_energies(self.model, state, dx, self.laplacian,
+                                      float(np.sum(0.5 * (P[1:] + P[:-1]) * np.diff(v))))
         return ModelIPathResult(
-            solve=solve, f=f, alpha_p=element_mean(state["alpha_p"], dx), external_work=work,
-            stored_energy=stored, dissipated_energy=float(np.sum(dx * model.dissipation(state))),
-            damage_dissipation=float(np.sum(dx * model.r_d * state["d"])), sweeps=np.array(self.sweeps),
-            seconds=_time.perf_counter() - getattr(self, "_t0", _time.perf_counter()), stalled=self.stalled,
-            solver=self)
+            solve=solve, f=element_damage_function(state), alpha_p=element_mean(state["alpha_p"], dx),
+            external_work=energies["external_work"], stored_energy=energies["stored_energy"],
+            dissipated_energy=energies["dissipated_energy"], damage_dissipation=energies["damage_dissipation"],
+            sweeps=np.array(self.sweeps), seconds=_time.perf_counter() - getattr(self, "_t0", _time.perf_counter()),
+            stalled=self.stalled, solver=self)
 
     def damage_residual(self, state: dict) -> float:
         """Largest change of an element's damage function under one more coupled damage update from ``state``
