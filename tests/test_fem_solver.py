@@ -17,6 +17,7 @@ from abrakit.fem import (
     boundary_dofs,
     load_checkpoint,
     meshes,
+    node_row_dofs,
     vector_basis,
 )
 from abrakit.fem.problems import plate_with_hole_problem, thick_cylinder_problem, thick_cylinder_solution
@@ -397,3 +398,13 @@ def test_vtu_fields_write_mandel_state_as_true_tensors(tmp_path):
     assert eps.shape == (mesh.nelements, 9)
     assert np.allclose(eps[:, 0], mandel[:, 0]) and np.allclose(eps[:, 4], mandel[:, 1])
     assert np.allclose(eps[:, 1], mandel[:, 5] / np.sqrt(2)) and np.allclose(eps[:, 1], eps[:, 3])
+
+
+def test_node_row_dofs_picks_the_nearest_row_of_one_component():
+    mesh = skfem.MeshQuad.init_tensor(np.linspace(0.0, 4.0, 5), np.linspace(0.0, 2.0, 3))
+    basis = vector_basis(mesh)
+    dofs = node_row_dofs(basis, "x", 2.4, "y")                    # nearest column x = 2, its y-DOFs
+    nodes = np.flatnonzero(np.isclose(mesh.p[0], 2.0))
+    assert np.array_equal(np.sort(dofs), np.sort(np.asarray(basis.nodal_dofs)[1, nodes]))
+    with pytest.raises(ValueError, match="components"):
+        node_row_dofs(basis, "z", 1.0, "x")

@@ -32,7 +32,7 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 import skfem
 
-from ..fem import Dirichlet, Kinematics, NewtonOptions, PathControl, Solver, StepControl, vector_basis
+from ..fem import Dirichlet, Kinematics, NewtonOptions, PathControl, Solver, StepControl, node_row_dofs, vector_basis
 from ..materials import TABLE_7_1, TABLE_7_2, ModelIDamage, ModelIIDamage
 from ..validation import check_positive, check_range
 from .model_one_fe import ModelISolver
@@ -163,8 +163,7 @@ def run_bar(material, n_elements: int, *, name: str = "", length: float = 20.0, 
         check_range("gauge", gauge, 0.0, 1.0, low_open=True, high_open=True)
         if not hasattr(material, "update_damage"):
             raise TypeError("gauge (path following) needs a Model I material (abrakit.materials.ModelIDamage)")
-        ends = [np.asarray(basis.nodal_dofs)[0, np.abs(mesh.p[0] - length * a) <= 0.5 * h + 1e-12 * length]
-                for a in (0.5 + gauge / 2, 0.5 - gauge / 2)]
+        ends = [node_row_dofs(basis, "x", length * a, "x") for a in (0.5 + gauge / 2, 0.5 - gauge / 2)]
         solver = ModelIPathFollowingSolver(kin, material, conditions, method="opening", opening=tuple(ends),
                                            path=PathControl(initial=step, maximum=step, max_ratio=1.0))
         res = solver.run(progress=False, stop_force=0.05)

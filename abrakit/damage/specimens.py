@@ -51,7 +51,7 @@ from functools import lru_cache
 import numpy as np
 import skfem
 
-from ..fem import Dirichlet, meshes, vector_basis
+from ..fem import Dirichlet, meshes, node_row_dofs, vector_basis
 from ..validation import check_option, check_positive, check_range
 
 #: Element targets of the named mesh levels (the seed: 900-1010, 4033-4080, 8014-8477 elements).
@@ -102,11 +102,7 @@ class Specimen:
     def gauge(self, low: float, high: float) -> tuple[np.ndarray, np.ndarray]:
         """Extensometer between the heights ``low`` and ``high`` (mm): the y-DOFs of the node rows nearest to them,
         (upper, lower), for the opening control of :class:`~abrakit.fem.PathFollowingSolver`."""
-        ys = self.mesh.p[1]
-        rows = []
-        for height in (high, low):
-            nearest = ys[np.argmin(np.abs(ys - height))]
-            rows.append(np.asarray(self.basis.nodal_dofs)[1, np.abs(ys - nearest) <= _TOL * max(1.0, abs(nearest))])
+        rows = [node_row_dofs(self.basis, "y", height, "y") for height in (high, low)]
         if rows[0].size == 0 or rows[1].size == 0 or np.intersect1d(*rows).size:
             raise ValueError(f"gauge: low = {low} and high = {high} mm must pick two different node rows")
         return rows[0], rows[1]

@@ -16,7 +16,7 @@ from __future__ import annotations
 
 from . import meshes
 from .assembly import Assembler, skfem_internal_force, skfem_tangent
-from .boundary import Constraints, Dirichlet, boundary_dofs, surface_load
+from .boundary import Constraints, Dirichlet, boundary_dofs, node_row_dofs, surface_load
 from .kinematics import Kinematics, TotalLagrangianKinematics, vector_basis
 from .linsolve import AMGSolver, DirectSolver, LinearSolveError, pardiso_available
 from .output import load_checkpoint
@@ -34,8 +34,8 @@ __all__ = [
     "AMGSolver", "ArcLength", "Assembler", "Constraints", "Dirichlet", "DirectSolver", "DissipationControl",
     "Kinematics", "LinearSolveError", "LoadFactorControl", "NewtonOptions", "OpeningControl", "PathControl",
     "PathFollowingSolver", "SolveResult", "Solver", "StepContext", "StepControl", "StepFailed",
-    "TotalLagrangianKinematics", "boundary_dofs", "demo", "load_checkpoint", "meshes", "pardiso_available",
-    "skfem_internal_force", "skfem_tangent", "solve", "surface_load", "vector_basis",
+    "TotalLagrangianKinematics", "boundary_dofs", "demo", "load_checkpoint", "meshes", "node_row_dofs",
+    "pardiso_available", "skfem_internal_force", "skfem_tangent", "solve", "surface_load", "vector_basis",
 ]
 
 

@@ -49,6 +49,15 @@ def boundary_dofs(basis: skfem.CellBasis, boundary, components="xyz") -> np.ndar
                                   ).astype(np.int64))
 
 
+def node_row_dofs(basis: skfem.CellBasis, axis: str, coordinate: float, component: str) -> np.ndarray:
+    """DOFs of displacement ``component`` at the nodes whose ``axis`` coordinate is the one nearest to
+    ``coordinate``: a row of nodes of a structured mesh (a plane in 3D), e.g. one end of a gauge."""
+    (axis_index,), (comp,) = (_components(c, basis.mesh.dim()) for c in (axis, component))
+    x = basis.mesh.p[axis_index]
+    nearest = x[np.argmin(np.abs(x - coordinate))]
+    return np.asarray(basis.nodal_dofs)[comp, np.abs(x - nearest) <= 1e-9 * max(1.0, abs(nearest))]
+
+
 @dataclass(frozen=True, eq=False)
 class Dirichlet:
     """Prescribed displacement on ``dofs``.
