@@ -110,3 +110,13 @@ def test_specimen_gauge_picks_two_node_rows():
     assert np.ptp(ys[np.isin(nodes[1], upper)]) == 0.0 and ys[np.isin(nodes[1], upper)][0] > 70.0
     with pytest.raises(ValueError, match="gauge"):
         specimen.gauge(50.0, 50.0)
+
+
+def test_a_gauge_is_refused_for_model_two_and_the_offset_reaches_the_description():
+    from abrakit.damage.runs import run_specimen
+    from abrakit.damage.specimens import double_notched
+
+    specimen = double_notched("coarse", offset=5.0)
+    assert "+/- 5 mm" in specimen.description and specimen.dimensions["offset"] == 5.0
+    with pytest.raises(ValueError, match="gauge"):
+        run_specimen(specimen, "II", 0.005, gauge=(29.0, 71.0))

@@ -70,6 +70,8 @@ def run_specimen(specimen: Specimen, model: str, parameter: float, *, step: floa
     first), through any snap-back, until ``stop_fraction`` of the peak.
     """
     check_option("model", model, ("I", "II"))
+    if gauge is not None and model != "I":
+        raise ValueError(f"gauge: path following by a gauge opening is for Model I only, got model={model!r}")
     steps = max(1, int(round(specimen.displacement / check_positive("step", step))))
     if model == "II":
         res = run_model_two(specimen, parameter, steps=steps, stop_fraction=stop_fraction)
@@ -80,7 +82,6 @@ def run_specimen(specimen: Specimen, model: str, parameter: float, *, step: floa
     material = ModelIDamage(**{**TABLE_7_1, "beta": parameter}, integration="implicit", tangent="consistent")
     h = 1.0 / steps
     if gauge is not None:
-        check_option("model", model, ("I",))
         return _follow(specimen, material, gauge, path or PathControl(initial=10 * h, maximum=10 * h, max_ratio=20.0,
                                                                       max_steps=20000), stop_fraction)
     solver = ModelISolver(specimen.basis, material, specimen.dirichlet,

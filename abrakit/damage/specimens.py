@@ -306,7 +306,7 @@ def double_notched(level="coarse", *, displacement: float = 0.3, formulation: st
     return _finish("double_notched", label, mesh, conditions, "top", displacement, formulation, None, 1,
                    {"width": 50.0, "height": 100.0, "notch_depth": 10.0, "notch_width": 2.0, "offset": offset,
                     "h": h},
-                   "strip 50 x 100 mm, notches 10 x 2 mm at mid-height +/- 10 mm, bottom clamped, top pulled")
+                   f"strip 50 x 100 mm, notches 10 x 2 mm at mid-height +/- {offset:g} mm, bottom clamped, top pulled")
 
 
 def sharp_notch(level="coarse", *, displacement: float = 0.1, formulation: str = "plane_strain") -> Specimen:
