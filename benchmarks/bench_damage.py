@@ -64,11 +64,13 @@ RESULTS = Path(__file__).resolve().parent / "results"
 TIMING = ("status", "steps", "newton_iterations", "cutbacks", "seconds", "seconds_per_step")
 
 
-def analyse(meta: dict, u, F, stiffness_loss, alpha_p, reference) -> dict:
+def analyse(meta: dict, u, F, stiffness_loss, alpha_p, reference, sp=None) -> dict:
     """The CSV row of one run: ``meta`` (case, mesh, timing) plus the curve and field metrics against
-    ``reference = (u_ref, F_ref)`` (the finest mesh at the small step)."""
-    sp = specimen(meta["specimen"], _level(meta["level"]), displacement=DISPLACEMENT,
-                  formulation=meta.get("formulation", "plane_strain"))
+    ``reference = (u_ref, F_ref)`` (the finest mesh at the small step); ``sp``: the run's specimen (rebuilt from
+    ``meta`` when not given, as when reanalysing stored runs)."""
+    if sp is None:
+        sp = specimen(meta["specimen"], _level(meta["level"]), displacement=DISPLACEMENT,
+                      formulation=meta.get("formulation", "plane_strain"))
     m = M.specimen_metrics(sp, u, F, stiffness_loss)
     F_ref = M.peak(*reference)[0]
     return {**meta, "elements": sp.elements, "dofs": int(sp.basis.N),
@@ -115,7 +117,7 @@ def main(outdir: Path = RESULTS, quick: bool = False,
                                 "parameter": parameter, "level": str(level), "step_mm": step, "status": run.status,
                                 "steps": run.steps, "newton_iterations": run.iterations, "cutbacks": run.cutbacks,
                                 "seconds": run.seconds, "seconds_per_step": run.seconds / max(run.steps, 1)}
-                        row = analyse(meta, u, F, run.stiffness_loss, run.alpha_p, reference)
+                        row = analyse(meta, u, F, run.stiffness_loss, run.alpha_p, reference, sp)
                         writer.write(**row)
                         records.append(row)
                         key = case_name(spec_name, model, strength, level, step)
