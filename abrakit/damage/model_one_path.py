@@ -113,8 +113,7 @@ class ModelIPathFollowingSolver(PathFollowingSolver):
         self.anderson = int(check_range("anderson", anderson, 0, None))
         self.target_sweeps = int(check_range("target_sweeps", target_sweeps, 1, self.max_sweeps))
         self.laplacian = mesh_laplacian(self.kin, material, laplacian)
-        self.sweeps: list[int] = []
-        self.stalled = 0
+        self._reset()
 
     def constrained_newton(self, constraint, u0, lam0, state_old, f_int0, step, start, previous=None, guess=None):
         """Constrained Newton solve and coupled damage update, repeated until the damage settles.
@@ -177,6 +176,11 @@ class ModelIPathFollowingSolver(PathFollowingSolver):
         mixed = np.clip(g - dG @ gamma, self.model.f_min, f_old)
         return np.where(g < f_old, mixed, f_old)      # no extrapolated damage where the update sees none
 
+    def _reset(self) -> None:
+        """Start a run's records: sweeps per step, stalled steps, the step effort and the clock."""
+        self.sweeps: list[int] = []
+        self._effort, self.stalled, self._t0 = 1.0, 0, _time.perf_counter()
+
     def _next_constraint(self, constraint, iterations, *args):
         """The path follower's step adaptation, driven by the sweeps and the first sweep's Newton iterations
         (their sum over the sweeps would shrink every step)."""
@@ -186,8 +190,7 @@ class ModelIPathFollowingSolver(PathFollowingSolver):
         """:meth:`abrakit.fem.PathFollowingSolver.run` (same options), returned with Model I's fields and energies.
         A failed step raises :class:`~abrakit.fem.StepFailed` as there; :meth:`result_of` its ``result`` keeps
         the followed part."""
-        self._t0 = _time.perf_counter()
-        self.sweeps, self._effort, self.stalled = [], 1.0, 0
+        self._reset()
         return self.result_of(super().run(**options))
 
     def result_of(self, solve) -> ModelIPathResult:
@@ -201,7 +204,7 @@ class ModelIPathFollowingSolver(PathFollowingSolver):
             solve=solve, f=element_damage_function(state), alpha_p=element_mean(state["alpha_p"], dx),
             external_work=energies["external_work"], stored_energy=energies["stored_energy"],
             dissipated_energy=energies["dissipated_energy"], damage_dissipation=energies["damage_dissipation"],
-            sweeps=np.array(self.sweeps), seconds=_time.perf_counter() - getattr(self, "_t0", _time.perf_counter()),
+            sweeps=np.array(self.sweeps), seconds=_time.perf_counter() - self._t0,
             stalled=self.stalled, solver=self)
 
     def damage_residual(self, state: dict) -> float:
