@@ -25,12 +25,13 @@ from abrakit.dem.contact_laws import cross, dot, turn_into_plane
 from abrakit.dem.state import pair_keys
 from abrakit.validation import check_positive
 
-__all__ = ["CrackLog", "ParallelBonds", "install_contact_bonds", "install_parallel_bonds", "parallel_bond_update"]
+__all__ = ["CrackLog", "ParallelBonds", "candidate_bond_pairs", "install_contact_bonds", "install_parallel_bonds",
+           "parallel_bond_update"]
 
 
 class CrackLog:
     """Broken bonds in the order they broke: ``time`` [s], ``position`` (K, 3) [m], ``i``, ``j``, ``mode``
-    ("tension" or "shear") and ``kind`` ("contact" or "parallel")."""
+    ("tension" or "shear") and ``kind`` ("contact", "parallel" or "fatigue")."""
 
     def __init__(self):
         self._chunks = []
@@ -142,18 +143,13 @@ class ParallelBonds:
                                    + self.mn**2 / (self.ks * J) + dot(self.ms, self.ms) / (self.kn * I))))
 
 
-def install_parallel_bonds(sim, *, kn, ks, tensile_strength, shear_strength, radius_multiplier=1.0, gap=None,
-                           pairs=None) -> int:
-    """Add parallel bonds between all pairs with gap ≤ ``gap`` (or the given ``pairs``); return how many.
-
-    ``kn``/``ks`` are stiffnesses per area [Pa/m], strengths are stresses [Pa]; R̄ = λ̄ min(r_A, r_B) with
-    λ̄ = ``radius_multiplier``. Bonds start stress-free. ``gap`` defaults to a round-off tolerance as in
-    :func:`install_contact_bonds`.
-    """
+def candidate_bond_pairs(sim, gap, pairs, existing, kind: str):
+    """The pairs ``(i, j)`` to bond: all pairs with gap ≤ ``gap`` (default: a round-off tolerance, as in
+    :func:`install_contact_bonds`) or the given ``pairs`` (K, 2), without those already in ``existing`` = (i, j).
+    ``kind`` names the bonds in the error raised in a periodic cell (their updates have no minimum image)."""
     p = sim.particles
     if getattr(sim, "periodic", None) is not None:
-        raise ValueError("parallel bonds are not supported in a periodic cell (their update has no minimum image)")
-    check_positive("radius_multiplier", radius_multiplier)
+        raise ValueError(f"{kind} are not supported in a periodic cell (their update has no minimum image)")
     gap = 1e-9 * float(np.mean(p.radius)) if gap is None else check_positive("gap", gap, allow_zero=True)
     if pairs is None:
         sim.rebuild(skin=max(sim.skin, gap))
@@ -164,9 +160,21 @@ def install_parallel_bonds(sim, *, kn, ks, tensile_strength, shear_strength, rad
     else:
         pairs = np.sort(np.asarray(pairs, np.int64).reshape(-1, 2), axis=1)
         i, j = pairs[:, 0], pairs[:, 1]
-    existing = pair_keys(sim.parallel_bonds.i, sim.parallel_bonds.j, len(p))
-    fresh = ~np.isin(pair_keys(i, j, len(p)), existing)
-    i, j = i[fresh], j[fresh]
+    fresh = ~np.isin(pair_keys(i, j, len(p)), pair_keys(*existing, len(p)))
+    return i[fresh], j[fresh]
+
+
+def install_parallel_bonds(sim, *, kn, ks, tensile_strength, shear_strength, radius_multiplier=1.0, gap=None,
+                           pairs=None) -> int:
+    """Add parallel bonds between all pairs with gap ≤ ``gap`` (or the given ``pairs``); return how many.
+
+    ``kn``/``ks`` are stiffnesses per area [Pa/m], strengths are stresses [Pa]; R̄ = λ̄ min(r_A, r_B) with
+    λ̄ = ``radius_multiplier``. Bonds start stress-free. ``gap`` defaults to a round-off tolerance as in
+    :func:`install_contact_bonds`.
+    """
+    p = sim.particles
+    check_positive("radius_multiplier", radius_multiplier)
+    i, j = candidate_bond_pairs(sim, gap, pairs, (sim.parallel_bonds.i, sim.parallel_bonds.j), "parallel bonds")
     b = len(i)
     value = lambda name, v: check_positive(name, np.broadcast_to(np.asarray(v, float), (b,)).copy())
     new = ParallelBonds(i, j, radius_multiplier * np.minimum(p.radius[i], p.radius[j]), value("kn", kn),
