@@ -11,6 +11,7 @@ from hypothesis import strategies as st
 
 from abrakit import identification, tensors, wear
 from abrakit.dem import contact_laws
+from abrakit.fatigue import BondParameters, bond_stresses, criterion, plastic_return
 from abrakit.materials import LinearElastic, LinearSofteningDamage, ModelIDamage, ModelIIDamage, VonMisesPlasticity
 from abrakit.materials.plasticity import plastic_step
 
@@ -133,3 +134,29 @@ def test_erve_strains_refuse_a_fully_damaged_sub_domain_and_mean_interval_counts
     assert np.all(np.isfinite(erve_strains(np.ones(6), np.array([1.0, 1e-6, 0.5]))))
     summary = mean_interval([1.0, np.nan, 2.0, np.inf])
     assert summary["n"] == 2 and summary["dropped"] == 2 and summary["mean"] == 1.5
+
+
+@SETTINGS
+@given(st.lists(st.tuples(st.floats(-5e-6, 5e-6), st.floats(-5e-6, 5e-6)), min_size=1, max_size=40))
+def test_fatigue_bond_stays_admissible_along_any_displacement_path(steps):
+    """Any path of displacement increments: the bond's stress never leaves its yield surface, D never decreases
+    and stays in [D0, 1], nothing is NaN (seed 002 Eqs. 15–22)."""
+    p = BondParameters()
+    elastic, damage = np.zeros(2), p.initial_damage
+    for du in steps:
+        start = elastic.copy()
+        elastic = elastic + du
+        dn, ds, d, sn, ss = plastic_return(elastic[0], elastic[1], damage, p, start=tuple(start))
+        elastic = elastic - (dn[0], ds[0])
+        assert p.initial_damage <= damage <= d[0] <= 1.0
+        damage = float(d[0])
+        assert np.allclose(bond_stresses(*elastic, damage, p), (sn[0], ss[0]))
+        assert criterion(sn[0], ss[0], damage, p) <= 1e-9 * (p.cohesion * (1 - damage)) ** 2 + 1e-12
+
+
+@SETTINGS
+@given(bad_numbers, st.sampled_from(["trial_n", "trial_s", "damage"]))
+def test_fatigue_bond_refuses_non_finite_input_by_name(bad, which):
+    values = {"trial_n": 1e-6, "trial_s": 1e-6, "damage": 0.1} | {which: bad}
+    with pytest.raises(ValueError, match=which):
+        plastic_return(values["trial_n"], values["trial_s"], values["damage"], BondParameters())

@@ -1,0 +1,287 @@
+"""The fatigue bond of seed 002 (Nguyen et al. 2018): constitutive law, Paris law, cycle jump, bad input."""
+
+import numpy as np
+import pytest
+from scipy.integrate import solve_ivp
+
+from abrakit.fatigue import (
+    BondParameters,
+    bond_stresses,
+    criterion,
+    cycle_jump,
+    cyclic_test,
+    damage_after,
+    fatigue_displacements,
+    flow_direction,
+    geometric_factor,
+    monotonic_test,
+    paris_increment,
+    plastic_return,
+    softening_energy,
+    stress_intensity_range,
+)
+
+P = BondParameters()
+
+
+def test_table_one_reading_agrees_with_the_prose():
+    """The prose fixes the strengths the garbled Table 1 lists: the 60 kPa cycles stay below the tensile yield
+    at D = 0.4 (σ_t (1 − 0.4) = 72 kPa) and 'have just reached' the shear yield there (c (1 − 0.4) = 60 kPa)."""
+    assert criterion(60e3, 0.0, 0.4, P) < 0.0
+    assert criterion(0.0, 60e3, 0.4, P) == pytest.approx(0.0, abs=1e-6 * P.cohesion**2)
+    # the threshold lets the same cycles grow fatigue damage in tension and in shear from D0 on (a < 0.505)
+    assert criterion(60e3, 0.0, P.initial_damage, P, level=P.threshold) > 0.0
+    assert criterion(0.0, 60e3, P.initial_damage, P, level=P.threshold) > 0.0
+
+
+@pytest.mark.parametrize("damage", [0.0, 0.01, 0.4, 0.9])
+@pytest.mark.parametrize("level", [1.0, 0.5])
+def test_yield_surface_passes_through_the_tensile_strength_and_the_cohesion(damage, level):
+    """Eq. (18)/(23) with α = √(2cσ_t tan φ − σ_t² tan² φ)/c: apex at level·σ_t(1 − D), level·c(1 − D) at σ_n = 0,
+    the origin inside, and a large tensile stress outside (the far branch continued)."""
+    intact = 1.0 - damage
+    scale = P.cohesion**2
+    assert criterion(level * P.tensile_strength * intact, 0.0, damage, P, level) == pytest.approx(0, abs=1e-9 * scale)
+    assert criterion(0.0, level * P.cohesion * intact, damage, P, level) == pytest.approx(0, abs=1e-9 * scale)
+    assert criterion(0.0, 0.0, damage, P, level) < 0.0
+    far = 3.0 * P.cohesion / P.tan_phi            # beyond the second root of the printed hyperbola
+    assert criterion(far, 0.0, damage, P, level) > 0.0
+    sigma = np.linspace(-5, 1, 200) * P.tensile_strength
+    assert np.all(np.diff(criterion(sigma, 0.0, damage, P, level)) > 0.0)      # monotone in σ_n
+
+
+def test_a_fully_damaged_bond_carries_no_tension_or_shear_but_compression():
+    sn, ss = bond_stresses(np.array([1e-5, -1e-5]), np.array([1e-5, 1e-5]), 1.0, P)
+    assert sn[0] == 0.0 and np.all(ss == 0.0)
+    assert sn[1] == pytest.approx(-P.kn * 1e-5)                 # Eq. (15): full stiffness in compression
+
+
+def test_damage_law_composes_and_stays_below_one():
+    """D' = 1 − (1 − D) e^{−Δκ}: two increments equal their sum in one, and D → 1 only in the limit."""
+    d1 = damage_after(damage_after(0.01, 1e-5, 2e-6, P), 3e-6, 4e-6, P)
+    assert d1 == pytest.approx(damage_after(0.01, 1.3e-5, 6e-6, P), rel=1e-13)
+    huge = damage_after(0.01, 1.0, 1.0, P)
+    assert 0.0 < huge <= 1.0
+    assert damage_after(P.initial_damage, 0.0, 0.0, P) == P.initial_damage
+
+
+@pytest.mark.parametrize("mode, strength", [("tension", "tensile_strength"), ("shear", "cohesion")])
+def test_monotonic_tests_peak_at_the_strengths_and_dissipate_the_softening_area(mode, strength):
+    """Fig. 7a/8a monotonic curves: linear to the strength × (1 − D0), then exponential softening; the work to
+    failure equals the closed-form softening area (:func:`softening_energy`) to 0.1 %."""
+    test = monotonic_test(P, mode, increment=1e-7)
+    u, s = np.array(test.displacement), np.array(test.stress)
+    assert s.max() == pytest.approx(getattr(P, strength) * (1.0 - P.initial_damage), rel=1e-9)
+    peak = np.argmax(s)
+    stiffness = P.kn if mode == "tension" else P.ks
+    assert np.allclose(s[:peak], stiffness * (1 - P.initial_damage) * u[:peak], rtol=1e-9)
+    assert np.all(np.diff(s[peak:]) <= 1e-9 * s.max())                         # softening only
+    work = np.sum(0.5 * (s[1:] + s[:-1]) * np.diff(u))
+    assert work == pytest.approx(softening_energy(P, mode), rel=1e-3)
+    assert s[-1] < 1e-5 * s.max() and test.damage > 1.0 - 1e-5
+
+
+def test_softening_energy_converges_with_the_step_to_the_closed_form():
+    errors = []
+    for du in (8e-7, 4e-7, 2e-7):
+        t = monotonic_test(P, "shear", increment=du)
+        u, s = np.array(t.displacement), np.array(t.stress)
+        errors.append(abs(np.sum(0.5 * (s[1:] + s[:-1]) * np.diff(u)) / softening_energy(P, "shear") - 1))
+    assert errors[2] < errors[1] < errors[0]
+
+
+def test_plastic_return_of_mixed_trial_states_satisfies_yield_flow_and_damage_law():
+    """Random mixed-mode trial states beyond the surface: the returned state lies on F = 0 (Eq. 18) at the
+    end-of-step damage, the plastic increments follow the flow rule at the returned stress (Eq. 19, 20) and the
+    damage follows Eq. (21) — each checked here independently of the solver's residual."""
+    rng = np.random.default_rng(3)
+    n = 200
+    en = rng.uniform(-2e-5, 1.5e-5, n)
+    es = rng.uniform(-2e-5, 2e-5, n)
+    d0 = rng.uniform(0.01, 0.8, n)
+    dn, ds, d, sn, ss = plastic_return(en, es, d0, P)
+    sn0, ss0 = bond_stresses(en, es, d0, P)
+    yielded = criterion(sn0, ss0, d0, P) > 0
+    assert yielded.sum() > 50
+    assert np.allclose(criterion(sn, ss, d, P)[yielded] / P.cohesion**2, 0.0, atol=1e-10)
+    fn, fs = flow_direction(sn, ss, d, P)
+    cross = dn * fs - ds * fn                                        # Δuᵖ ∥ (∂G/∂σ_n, ∂G/∂σ_s)
+    assert np.allclose(cross[yielded] / (np.hypot(dn, ds) * np.hypot(fn, fs))[yielded], 0.0, atol=1e-8)
+    assert np.all(dn[yielded] * fn[yielded] + ds[yielded] * fs[yielded] > 0)
+    assert np.allclose(d, damage_after(d0, dn, ds, P), rtol=1e-12)
+    sn1, ss1 = bond_stresses(en - dn, es - ds, d, P)
+    assert np.allclose(sn1, sn, atol=1e-6 * P.cohesion) and np.allclose(ss1, ss, atol=1e-6 * P.cohesion)
+    assert np.all(dn[~yielded] == 0.0) and np.all(d[~yielded] == d0[~yielded])
+
+
+def test_stress_update_at_the_onset_of_unloading_is_eq_38_39():
+    """Eq. (38): σⁿ = σᵖʳᵉ (1 − Dⁿ)/(1 − Dⁿ⁻¹) − Δu_nᶠ (1 − Dⁿ) k_n — what Eq. (15) gives with the new internal
+    variables, so a displacement-driven engine needs no separate correction."""
+    elastic, d_old, d_new, duf = 2.5e-6, 0.05, 0.06, 1e-7
+    before, _ = bond_stresses(elastic, 0.0, d_old, P)
+    after, _ = bond_stresses(elastic - duf, 0.0, d_new, P)
+    assert after == pytest.approx(before * (1 - d_new) / (1 - d_old) - duf * (1 - d_new) * P.kn, rel=1e-13)
+
+
+def test_geometric_factor_is_the_centre_cracked_strip():
+    """Eq. (31): Y(0) = 1 (Griffith) and Isida's exact values of the centre-cracked strip to 0.1 % (the accuracy
+    Tada et al. state for this form); without the square root of sec it would miss them by 19 % at D = 0.5."""
+    assert geometric_factor(0.0) == 1.0
+    isida = {0.1: 1.0060, 0.2: 1.0246, 0.3: 1.0577, 0.4: 1.1094, 0.5: 1.1867, 0.6: 1.3033, 0.7: 1.4882}
+    for ratio, value in isida.items():
+        assert geometric_factor(ratio) == pytest.approx(value, rel=1e-3)
+
+
+def test_mixed_mode_range_adds_in_quadrature():
+    """Eq. (28): ΔK² = ΔK_I² + ΔK_II²; the mode I range counts only tension (a closed crack has no K_I)."""
+    k1 = stress_intensity_range(0.2, 30e3, 0.0, P)
+    k2 = stress_intensity_range(0.2, 0.0, 40e3, P)
+    assert stress_intensity_range(0.2, 30e3, 40e3, P) == pytest.approx(np.hypot(k1, k2), rel=1e-14)
+    assert k1 == pytest.approx(geometric_factor(0.2) * np.sqrt(np.pi * P.width * 0.2) * 30e3, rel=1e-14)
+
+
+def test_fatigue_displacements_raise_damage_by_the_increment_in_the_flow_ratio():
+    """Eqs. (36), (37): the displacements reproduce ΔD_f through the damage law and stand in the ratio
+    Δu_nᶠ/|Δu_sᶠ| = tan ψ [a c (1 − D) − σ_n tan ψ]/|σ_s|; pure mode I opens only the normal direction."""
+    d, inc = 0.2, 3e-3
+    for sn, ss in ((40e3, 0.0), (0.0, -60e3), (20e3, 30e3)):
+        dn, ds = fatigue_displacements(d, inc, sn, ss, P)
+        assert damage_after(d, dn, ds, P) == pytest.approx(d + inc, rel=1e-13)
+        ratio = P.tan_psi * (P.threshold * P.cohesion * (1 - d) - sn * P.tan_psi)
+        if ss == 0.0:
+            assert ds == 0.0 and dn > 0
+        else:
+            assert dn / abs(ds) == pytest.approx(ratio / abs(ss), rel=1e-12)
+            assert np.sign(ds) == np.sign(ss)
+
+
+def test_tension_and_shear_fatigue_histories_coincide():
+    """Sec. 4.2: 'the results of fatigue damage evolution … in these tests exactly match'."""
+    t = cyclic_test(P, "tension", to_failure=False)
+    s = cyclic_test(P, "shear", to_failure=False)
+    assert np.array_equal(t.cycles, s.cycles) and np.array_equal(t.cycle_damage, s.cycle_damage)
+    assert t.cycle_damage[-1] >= 0.4 > t.cycle_damage[-2]
+
+
+def test_cycle_by_cycle_damage_matches_an_independent_integration_of_paris_law():
+    """Eq. (27) per cycle against scipy's solve_ivp of dD/dN = (C/L) ΔK(D)ᵐ: within 0.5 % over the whole history
+    (the difference is the unit cycle acting as an Euler step)."""
+    t = cyclic_test(P, "tension", to_failure=False)
+    n, d = np.array(t.cycles), np.array(t.cycle_damage)
+    ode = solve_ivp(lambda _, y: paris_increment(np.minimum(y, 0.99), 40e3, 0.0, P), (0, n[-1]),
+                    [P.initial_damage], dense_output=True, rtol=1e-10, atol=1e-13)
+    assert np.max(np.abs(d / ode.sol(n)[0] - 1.0)) < 5e-3
+
+
+def test_paris_coefficient_scales_the_cycle_count_inversely():
+    """Fig. 11b: the damage increment is proportional to C, so the cycles to D = 0.4 scale as 1/C."""
+    n = {c: cyclic_test(P.replace(paris_coefficient=c), "tension", to_failure=False).cycles[-1]
+         for c in (0.5e-8, 1.0e-8, 1.5e-8)}
+    assert n[0.5e-8] == pytest.approx(2 * n[1.0e-8], rel=0.01)
+    assert n[1.5e-8] == pytest.approx(n[1.0e-8] / 1.5, rel=0.01)
+
+
+@pytest.mark.parametrize("m, paper", [(0.8, 2008), (1.2, 50)])
+def test_papers_cycle_counts_are_those_of_a_zero_to_peak_stress_range(m, paper):
+    """Fig. 11a: 2008 cycles (m = 0.8) and 50 (m = 1.2) from D = 0.01 to 0.4 are reproduced to the cycle when ΔK
+    takes the 60 kPa peak as the range (a 0–60 kPa cycle); the printed 20–60 kPa range gives 2777 and 80."""
+    p = P.replace(paris_exponent=m)
+    assert cyclic_test(p, "tension", stress_min=0.0, to_failure=False).cycles[-1] == paper
+    printed = cyclic_test(p, "tension", to_failure=False).cycles[-1]
+    assert printed == {0.8: 2777, 1.2: 80}[m]
+
+
+@pytest.mark.parametrize("jump", [0.005, 0.01])
+def test_cycle_jump_lands_on_the_cycle_by_cycle_history(jump):
+    """Eq. (41) iterates Eq. (27) with the range frozen; under a constant stress range that is exact, so at every
+    jump's end D equals the cycle-by-cycle D at the same cycle (to round-off), with 5–11× fewer simulated cycles."""
+    full = cyclic_test(P, "tension", to_failure=False)
+    jumped = cyclic_test(P, "tension", to_failure=False, jump=jump)
+    reference = dict(zip(full.cycles, full.cycle_damage, strict=True))
+    common = [(d, reference[n]) for n, d in zip(jumped.cycles, jumped.cycle_damage, strict=True) if n in reference]
+    assert len(common) >= len(jumped.cycles) - 1
+    assert np.allclose(*np.array(common).T, rtol=1e-12)
+    assert full.simulated_cycles / jumped.simulated_cycles > (5 if jump == 0.005 else 10)
+
+
+def test_papers_cycle_jump_counts_are_ratios_of_a_zero_to_peak_run():
+    """Sec. 4.1: the jumps 0.005 and 0.01 'reduce the simulated cycles by 388.8 % and 797.4 %'. With ΔK from the
+    60 kPa peak (311 cycles, as Fig. 11 implies) and N_jump rounded, the full-to-simulated ratio is 311/39 = 797.4 %
+    to the digit and 311/79 = 393.7 % (the paper's 388.8 % is 311/80: one simulated cycle apart)."""
+    full = cyclic_test(P, "tension", stress_min=0.0, to_failure=False)
+    ratio = {jump: 100 * full.simulated_cycles / cyclic_test(P, "tension", stress_min=0.0, to_failure=False,
+                                                             jump=jump).simulated_cycles for jump in (0.005, 0.01)}
+    assert full.simulated_cycles == 311
+    assert round(ratio[0.01], 1) == 797.4
+    assert round(100 * 311 / 80, 1) == 388.8 and round(ratio[0.005], 1) == 393.7
+
+
+def test_cycle_jump_takes_the_largest_increment_and_at_least_one_cycle():
+    n, inc = cycle_jump([0.1, 0.2], [1e-3, 2e-3], 0.01, exponent=1.0)
+    assert n == 5 and inc[1] > 0.01 > inc[0] > 0.005
+    assert cycle_jump([0.1], [0.05], 0.01, exponent=1.0)[0] == 1
+    assert cycle_jump([0.1], [0.004], 0.01, exponent=1.0)[0] == 2          # 2.5 rounds to even, 2
+    assert cycle_jump([0.1], [0.0035], 0.01, exponent=1.0)[0] == 3         # 2.86 rounds to 3
+    assert cycle_jump([0.1], [1e-4], 0.01, exponent=1.0, max_cycles=7)[0] == 7
+
+
+def test_no_fatigue_damage_below_the_threshold():
+    low = cyclic_test(P, "tension", stress_min=5e3, stress_max=50e3, to_failure=False)
+    assert low.cycle_damage == [P.initial_damage]
+
+
+def test_after_cycling_tension_rises_to_the_reduced_strength_and_shear_softens_at_once():
+    """Figs. 7a, 8a: at D = 0.4 the tension test is still elastic up to σ_t(1 − D), the shear test is on its yield
+    surface already."""
+    t = cyclic_test(P, "tension")
+    d_end = t.cycle_damage[-1]
+    start = len(t.stress) - 1 - t.stress[::-1].index(20e3)
+    u, s = np.array(t.displacement[start:]), np.array(t.stress[start:])
+    peak = np.argmax(s)
+    assert P.tensile_strength * (1 - d_end) * 0.99 < s[peak] <= P.tensile_strength * (1 - d_end) * (1 + 1e-9)
+    assert np.allclose(np.diff(s[:peak]) / np.diff(u[:peak]), P.kn * (1 - d_end), rtol=1e-6)   # elastic rise
+    s = cyclic_test(P, "shear")
+    start = len(s.stress) - 1 - s.stress[::-1].index(20e3)
+    assert max(s.stress[start:]) <= 60e3 * (1 + 1e-9)
+    assert t.damage > 0.999 and s.damage > 0.999
+    assert 0.0 <= min(t.cycle_damage) and max(s.cycle_damage) <= 1.0
+
+
+@pytest.mark.parametrize("change, name", [({"threshold": 1.2}, "threshold"), ({"threshold": 0.0}, "threshold"),
+                                          ({"paris_exponent": 0.0}, "paris_exponent"),
+                                          ({"paris_exponent": -1.0}, "paris_exponent"),
+                                          ({"tensile_strength": -1.0}, "tensile_strength"),
+                                          ({"cohesion": -5.0}, "cohesion"), ({"kn": 0.0}, "kn"),
+                                          ({"initial_damage": 0.0}, "initial_damage"),
+                                          ({"dilatancy_angle": 15.0}, "dilatancy_angle"),
+                                          ({"friction_angle": 89.0}, "tensile_strength")])
+def test_bad_parameters_raise_value_error_naming_them(change, name):
+    with pytest.raises(ValueError, match=name):
+        P.replace(**change)
+
+
+def test_bad_driver_input_raises_value_error():
+    with pytest.raises(ValueError, match="jump"):
+        cyclic_test(P, "tension", jump=0.0)
+    with pytest.raises(ValueError, match="jump"):
+        cycle_jump([0.1], [1e-3], -0.01, exponent=1.0)
+    with pytest.raises(ValueError, match="mode"):
+        cyclic_test(P, "torsion")
+    with pytest.raises(ValueError, match="damage"):
+        geometric_factor(1.0)
+
+
+def test_a_trial_far_beyond_the_strength_is_substepped_or_refused_with_a_message():
+    """Hard case: elastic trials 5–20 times the current strength at D up to 1 − 10⁻⁶. Without the start of the
+    step Newton may fail and says so; given it, the step is split in halves until every bond returns onto F = 0 with
+    D in [D_start, 1], never NaN."""
+    rng = np.random.default_rng(5)
+    n = 300
+    en, es = rng.uniform(-1e-4, 1e-4, n), rng.uniform(-1e-4, 1e-4, n)
+    d0 = 1 - 10 ** rng.uniform(-6, -0.01, n)
+    with pytest.raises(RuntimeError, match="smaller steps"):
+        plastic_return(en, es, d0, P)
+    dn, ds, d, sn, ss = plastic_return(en, es, d0, P, start=(0.0, 0.0))
+    assert np.all(np.isfinite([dn, ds, d, sn, ss]))
+    assert np.all((d >= d0) & (d <= 1.0))
+    assert np.max(criterion(sn, ss, d, P) / (P.cohesion * (1 - d0)) ** 2) < 1e-9
