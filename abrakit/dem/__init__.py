@@ -7,6 +7,8 @@ The calculation cycle of Fig. 4.1 is :meth:`Simulation.step`; every stage is a s
 :mod:`.neighbours`        Verlet list from ``cKDTree``, history kept across rebuilds
 :mod:`.contact_laws`      linear and Hertz–Mindlin laws, slip, dashpots (Eq. 4.6–4.14)
 :mod:`.bonds`             contact and parallel bonds, crack records
+:mod:`.fatigue_bonds`     the damage-plasticity fatigue bond of seed 002 (law in :mod:`abrakit.fatigue`)
+:mod:`.fatigue_specimen`  a small bonded bar under cyclic load, with the cycle jump
 :mod:`.walls`             planar walls, prescribed velocity, servo
 :mod:`.integrate`         leap-frog, local damping, critical time step (seed 002 Eq. 5–12)
 :mod:`.clumps`            rigid multi-sphere grains
@@ -37,6 +39,8 @@ from abrakit.dem.contact_laws import (
     hertz_shear_coefficient,
     series_stiffness,
 )
+from abrakit.dem.fatigue_bonds import FatigueBonds, install_fatigue_bonds
+from abrakit.dem.fatigue_specimen import bonded_bar, cyclic_bar
 from abrakit.dem.integrate import critical_time_step, leapfrog, local_damping
 from abrakit.dem.measure import (
     box_strain,
@@ -68,16 +72,16 @@ from abrakit.dem.state import ContactSet, Particles
 from abrakit.dem.walls import Servo, Walls
 
 __all__ = [
-    "Clumps", "ContactForces", "ContactSet", "CrackLog", "ElasticConstants", "EnergyAccount", "HertzMindlin",
-    "HistoryWriter", "Linear", "ParallelBonds", "ParticleEscapeError", "Particles", "Periodic", "Servo",
-    "Simulation", "TimeStepError", "VerletList", "VtuWriter", "Walls", "bonded_chain_wave", "bonded_pair",
-    "box_strain", "callbacks", "candidate_pairs", "clump_particles", "contact_density", "coordination_number",
-    "critical_time_step", "demo", "dense_packing", "dyad", "elastic_probe", "energy_balance",
-    "force_displacement", "hertz_normal_coefficient", "hertz_shear_coefficient", "impact_analytic",
-    "install_contact_bonds", "install_parallel_bonds", "kinetic_energy", "leapfrog", "local_damping",
-    "love_weber_stress", "make_clumps", "parallel_bond_update", "peanut", "porosity", "relax", "rolling_sphere",
-    "series_stiffness", "settling", "sphere_wall_impact", "two_sphere_impact", "unbalanced_force_ratio",
-    "wall_stress",
+    "Clumps", "ContactForces", "ContactSet", "CrackLog", "ElasticConstants", "EnergyAccount", "FatigueBonds",
+    "HertzMindlin", "HistoryWriter", "Linear", "ParallelBonds", "ParticleEscapeError", "Particles", "Periodic",
+    "Servo", "Simulation", "TimeStepError", "VerletList", "VtuWriter", "Walls", "bonded_bar", "bonded_chain_wave",
+    "bonded_pair", "box_strain", "callbacks", "candidate_pairs", "clump_particles", "contact_density",
+    "coordination_number", "critical_time_step", "cyclic_bar", "demo", "dense_packing", "dyad", "elastic_probe",
+    "energy_balance", "force_displacement", "hertz_normal_coefficient", "hertz_shear_coefficient", "impact_analytic",
+    "install_contact_bonds", "install_fatigue_bonds", "install_parallel_bonds", "kinetic_energy", "leapfrog",
+    "local_damping", "love_weber_stress", "make_clumps", "parallel_bond_update", "peanut", "porosity", "relax",
+    "rolling_sphere", "series_stiffness", "settling", "sphere_wall_impact", "two_sphere_impact",
+    "unbalanced_force_ratio", "wall_stress",
 ]
 
 

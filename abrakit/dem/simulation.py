@@ -24,6 +24,7 @@ import numpy as np
 from abrakit.dem.bonds import CrackLog, ParallelBonds, parallel_bond_update
 from abrakit.dem.clumps import make_clumps
 from abrakit.dem.contact_laws import ContactForces, Linear, cross, dot, force_displacement, rowdot
+from abrakit.dem.fatigue_bonds import BROKEN, FatigueBonds
 from abrakit.dem.integrate import critical_time_step, leapfrog, local_damping, particle_stiffness
 from abrakit.dem.neighbours import VerletList, candidate_pairs, transfer_history, wall_candidates
 from abrakit.dem.state import ContactSet, Particles, pair_keys
@@ -153,6 +154,7 @@ class Simulation:
         self.removed = 0
         self.applied_force: np.ndarray | None = None     # (N, 3) external forces [N], optional
         self.parallel_bonds = ParallelBonds.empty()
+        self.fatigue_bonds = FatigueBonds.empty()
         self.cracks = CrackLog()
         self.energy = EnergyAccount()
         self.neighbours.skin = self.skin
@@ -230,6 +232,7 @@ class Simulation:
         stored = self._ball_ball(force, torque)                  # Eq. (4.1)–(4.14), contact bonds
         stored += self._ball_wall(force, torque)
         stored += self._parallel_bonds(force, torque)
+        stored += self._fatigue_bonds(force, torque)
         kick = 0.5 * dt if self.step_count == 0 else dt             # v given at t = 0: start with a half kick
         if self.kernel == "numba" and not self.track_energy and self.clumps is None:
             from abrakit.dem.kernels import advance
@@ -432,6 +435,25 @@ class Simulation:
         self.parallel_bonds = new
         return new.energy() if self.track_energy else 0.0
 
+    def _fatigue_bonds(self, force, torque) -> float:
+        b = self.fatigue_bonds
+        if not len(b):
+            return 0.0
+        p = self.particles
+        new, f, t_i, t_j, point = b.update(p.x, p.v, p.w, p.radius, self.dt)
+        _scatter(force, new.j, f)
+        _scatter(force, new.i, f, -1.0)
+        _scatter(torque, new.i, t_i)
+        _scatter(torque, new.j, t_j)
+        broken = new.damage >= BROKEN
+        if broken.any():
+            tension = broken & (new.plastic[0] + new.fatigue[0] >= new.plastic[1] + new.fatigue[1])
+            for mode, mask in (("tension", tension), ("shear", broken & ~tension)):
+                self.cracks.record(self.time, point[:, mask].T, new.i[mask], new.j[mask], mode, "fatigue")
+            new = new.take(~broken)
+        self.fatigue_bonds = new
+        return new.energy() if self.track_energy else 0.0
+
     def _elastic_energy(self, prm, overlap, bonded, bond_gap, r) -> float:
         normal = self.law.normal_energy(overlap, prm)
         if bonded.any():
@@ -580,6 +602,12 @@ class Simulation:
                 springs_t.append((idx, np.maximum(b.kn, b.ks) * b.area))
                 springs_r.append((idx, np.maximum(b.kn * b.inertia, b.ks * b.polar)
                                   + b.ks * b.area * p.radius[idx] ** 2))
+        f = self.fatigue_bonds
+        if len(f):
+            k = max(f.params.kn, f.params.ks) * f.area
+            for idx in (f.i, f.j):
+                springs_t.append((idx, k))
+                springs_r.append((idx, k * p.radius[idx] ** 2))
         all_ = np.arange(n)
         self_prm = law.pair_parameters(p, all_, all_)
         fn, kn = law.normal_force(0.01 * p.radius, self_prm)
@@ -673,6 +701,10 @@ class Simulation:
         b = b.take(ok)
         b.i, b.j = new_index[b.i], new_index[b.j]
         self.parallel_bonds = b
+        f = self.fatigue_bonds
+        f = f.take((new_index[f.i] >= 0) & (new_index[f.j] >= 0))
+        f.i, f.j = new_index[f.i], new_index[f.j]
+        self.fatigue_bonds = f
         if self.applied_force is not None:
             self.applied_force = self.applied_force[keep]
         self.particles = p.take(keep)

@@ -1,0 +1,167 @@
+"""Fatigue bonds in the DEM engine: the damage-plasticity bond of seed 002 between particle pairs.
+
+Each bond is a rectangle of width L = 2 λ̄ min(r_A, r_B) and thickness t (area A = L t; t = 1 m for the paper's 2D
+assemblies) in parallel with the ordinary contact, like a parallel bond but without moments (the paper's bond carries
+normal and shear stress only). Its kinematics are incremental: the elastic normal opening e_n and shear vector e_s
+grow by the relative velocity at the contact point times Δt, e_s turning with the contact plane. The constitutive
+update is :func:`abrakit.fatigue.bond_law.plastic_return` with (e_n, |e_s|), vectorised over the bonds; the force
+on particle j is −A (σ_n n + σ_s e_s/|e_s|).
+
+Load cycles are the caller's: :meth:`FatigueBonds.onset_of_unloading` is called where the loading programme turns
+from loading to unloading. It applies Paris' law to every bond that exceeded its fatigue criterion at its peak and
+did not yield during the cycle (the shift factor E of Eq. 17), with the stress ranges seen since the previous call,
+and optionally the cycle jump; the stress update of Eqs. (38, 39) follows from the new internal variables.
+
+A bond whose damage reaches ``1 − 10⁻⁶`` is removed and logged as a crack (the ordinary contact keeps acting in
+compression).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, fields, replace
+
+import numpy as np
+
+from abrakit.dem.bonds import candidate_bond_pairs
+from abrakit.dem.contact_laws import cross, dot, turn_into_plane
+from abrakit.fatigue.bond_law import BondParameters, criterion, damage_after, plastic_return
+from abrakit.fatigue.paris import cycle_jump, fatigue_displacements, paris_increment, tensile_part
+from abrakit.validation import check_positive
+
+__all__ = ["FatigueBonds", "install_fatigue_bonds"]
+
+BROKEN = 1.0 - 1e-6
+
+
+@dataclass
+class FatigueBonds:
+    """``B`` fatigue bonds between particles ``i`` and ``j``; per-bond state arrays, shared ``params``."""
+
+    i: np.ndarray
+    j: np.ndarray
+    width: np.ndarray            # L [m]
+    area: np.ndarray             # A = L t [m²]
+    elastic_n: np.ndarray        # e_n = u_n − u_nᵖ − u_nᶠ [m], opening positive
+    elastic_s: np.ndarray        # (3, B) e_s [m]
+    damage: np.ndarray           # D
+    plastic: np.ndarray          # (2, B) accumulated |Δuᵖ| normal, shear [m]
+    fatigue: np.ndarray          # (2, B) accumulated |Δuᶠ| normal, shear [m]
+    sigma: np.ndarray            # (2, B) current σ_n, σ_s = |σ_s| [Pa]
+    peak: np.ndarray             # (2, B) largest σ_n, σ_s since the last cycle update
+    low: np.ndarray              # (2, B) smallest σ_n, σ_s since the last cycle update
+    yielded: np.ndarray          # bool: yielded since the last cycle update (E = 0 in Eq. 17)
+    params: BondParameters
+
+    @classmethod
+    def empty(cls, params: BondParameters | None = None) -> FatigueBonds:
+        z = np.zeros(0)
+        return cls(np.zeros(0, np.int64), np.zeros(0, np.int64), z, z, z, np.zeros((3, 0)), z, np.zeros((2, 0)),
+                   np.zeros((2, 0)), np.zeros((2, 0)), np.zeros((2, 0)), np.zeros((2, 0)), np.zeros(0, bool),
+                   BondParameters() if params is None else params)
+
+    def __len__(self) -> int:
+        return len(self.i)
+
+    def take(self, index) -> FatigueBonds:
+        value = lambda name: getattr(self, name) if name == "params" else getattr(self, name)[..., index]
+        return FatigueBonds(**{f.name: value(f.name) for f in fields(self)})
+
+    def energy(self) -> float:
+        """Elastic energy stored in the bonds, ½ A σ·e summed [J]."""
+        if not len(self):
+            return 0.0
+        return float(0.5 * np.sum(self.area * (self.sigma[0] * self.elastic_n
+                                               + self.sigma[1] * np.sqrt(dot(self.elastic_s, self.elastic_s)))))
+
+    def update(self, x, v, w, radius, dt):
+        """One incremental step; returns ``(new_bonds, force_on_j, torque_on_i, torque_on_j, contact_point)``."""
+        p, i, j = self.params, self.i, self.j
+        take = lambda a, idx: np.take(a.T, idx, axis=1)
+        d = take(x, j) - take(x, i)
+        n = d / np.sqrt(dot(d, d))
+        overlap = radius[i] + radius[j] - np.sqrt(dot(d, d))
+        arm_i, arm_j = radius[i] - 0.5 * overlap, radius[j] - 0.5 * overlap
+        v_rel = take(v, j) - take(v, i) - cross(arm_i * take(w, i) + arm_j * take(w, j), n)
+        vn = dot(v_rel, n)
+        start_n, start_s = self.elastic_n, turn_into_plane(self.elastic_s, n)
+        trial_n = start_n + vn * dt
+        trial_s = start_s + (v_rel - vn * n) * dt
+        size_s = np.sqrt(dot(trial_s, trial_s))
+        du_n, du_s, damage, sigma_n, sigma_s = plastic_return(
+            trial_n, size_s, self.damage, p, start=(start_n, np.sqrt(dot(start_s, start_s))))
+        shrink = np.divide(size_s - du_s, size_s, out=np.ones_like(size_s), where=size_s > 0)
+        elastic_s = trial_s * shrink
+        sigma = np.array([sigma_n, sigma_s])
+        plastic = du_n + np.abs(du_s) > 0
+        new = replace(self, elastic_n=trial_n - du_n, elastic_s=elastic_s, damage=damage,
+                      plastic=self.plastic + np.abs([du_n, du_s]), sigma=sigma,
+                      peak=np.maximum(self.peak, sigma), low=np.minimum(self.low, sigma),
+                      yielded=self.yielded | plastic)
+        force = -self.area * (sigma_n * n + p.ks * (1.0 - damage) * elastic_s)
+        lever = cross(n, force)
+        return new, force, -arm_i * lever, -arm_j * lever, take(x, i) + arm_i * n
+
+    def onset_of_unloading(self, *, jump: float | None = None, max_cycles=None) -> int:
+        """The fatigue update of one load cycle at the onset of its unloading (Sec. 3.2, Fig. 5), in place.
+
+        Bonds that did not yield since the last call and whose peak stress exceeds the fatigue criterion (Eq. 23)
+        gain ΔD_f by Paris' law (Eq. 27) with the ranges peak − low (mode I: tensile part only), and the fatigue
+        displacements of Eqs. (35–37), which lower their stresses as Eqs. (38, 39) state. With ``jump`` = ΔD_jump
+        the increments are extrapolated over N_jump cycles (Eqs. 40, 41). Returns the number of cycles this
+        update stands for (1 without a jump); the stress record restarts from the current stresses."""
+        p = self.params
+        count = 1
+        if len(self):
+            peak_n, peak_s = self.peak
+            fatigued = ~self.yielded & (criterion(peak_n, peak_s, self.damage, p, level=p.threshold) >= 0.0)
+            range_n = tensile_part(peak_n) - tensile_part(self.low[0])
+            increment = np.where(fatigued, paris_increment(self.damage, range_n, peak_s - self.low[1], p,
+                                                           self.width), 0.0)
+            if jump is not None and fatigued.any():
+                count, increment = cycle_jump(self.damage, increment, jump, max_cycles=max_cycles,
+                                              exponent=p.paris_exponent)
+            du_n, du_s = fatigue_displacements(self.damage, increment, peak_n, peak_s, p)
+            du_n, du_s = np.where(fatigued, du_n, 0.0), np.where(fatigued, np.abs(du_s), 0.0)
+            size_s = np.sqrt(dot(self.elastic_s, self.elastic_s))
+            self.elastic_n = self.elastic_n - du_n
+            self.elastic_s = self.elastic_s * np.divide(size_s - du_s, size_s, out=np.ones_like(size_s),
+                                                        where=size_s > 0)
+            self.damage = np.where(fatigued, np.minimum(damage_after(self.damage, du_n, du_s, p), 1.0), self.damage)
+            self.fatigue = self.fatigue + np.array([du_n, du_s])
+            self.peak, self.low = self.sigma.copy(), self.sigma.copy()
+            self.yielded = np.zeros(len(self), bool)
+        return count
+
+    def restart_cycle(self) -> None:
+        """Forget the stress extremes and yield flags recorded so far (e.g. after a monotonic pre-load)."""
+        self.peak, self.low = self.sigma.copy(), self.sigma.copy()
+        self.yielded = np.zeros(len(self), bool)
+
+
+def install_fatigue_bonds(sim, params: BondParameters, *, thickness=1.0, width_multiplier=1.0, gap=None,
+                          pairs=None) -> int:
+    """Add fatigue bonds between all touching pairs (gap ≤ ``gap``, or the given ``pairs`` (K, 2)); return how many.
+
+    The width is L = 2 λ̄ min(r_A, r_B) with λ̄ = ``width_multiplier``; the area L × ``thickness`` (1 m for the
+    paper's 2D assemblies). All bonds share ``params``; its ``width`` is ignored (each bond has its own L). Bonds
+    start stress-free with D = D₀."""
+    check_positive("thickness", thickness)
+    check_positive("width_multiplier", width_multiplier)
+    if not isinstance(params, BondParameters):
+        raise TypeError(f"params must be a BondParameters, got {type(params).__name__}")
+    i, j = candidate_bond_pairs(sim, gap, pairs, (sim.fatigue_bonds.i, sim.fatigue_bonds.j), "fatigue bonds")
+    r = sim.particles.radius
+    width = 2.0 * width_multiplier * np.minimum(r[i], r[j])
+    b = len(i)
+    z2 = np.zeros((2, b))
+    new = FatigueBonds(i, j, width, width * thickness, np.zeros(b), np.zeros((3, b)),
+                       np.full(b, params.initial_damage), z2, z2.copy(), z2.copy(), z2.copy(), z2.copy(),
+                       np.zeros(b, bool), params)
+    old = sim.fatigue_bonds
+    if len(old) and old.params != params:
+        raise ValueError("all fatigue bonds of a simulation share one BondParameters")
+    sim.fatigue_bonds = FatigueBonds(**{f.name: params if f.name == "params" else
+                                        np.concatenate([getattr(old, f.name), getattr(new, f.name)], axis=-1)
+                                        for f in fields(FatigueBonds)})
+    sim.update_time_step()
+    return b
