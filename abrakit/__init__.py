@@ -9,7 +9,7 @@ __version__ = "0.1.0"
 
 #: The subpackages and modules reachable as attributes of the package.
 MODULES = ("tensors", "evolution", "identification", "dem", "experiments", "materials", "fem", "damage", "scratch",
-           "wear", "reproduction", "validation", "io", "cli")
+           "wear", "fatigue", "reproduction", "validation", "io", "cli")
 __all__ = ["__version__", *MODULES]
 
 

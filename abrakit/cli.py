@@ -24,6 +24,7 @@ DEMOS = {
     "model_two": "abrakit.damage.model_two_fe",
     "scratch": "abrakit.scratch",
     "scratch_scene": "abrakit.scratch.scene",
+    "fatigue": "abrakit.fatigue",
     "reproduction": "abrakit.reproduction",
 }
 

@@ -27,6 +27,8 @@ class Decision:
     kind: str = "misprint"   # "misprint", "ambiguity", "reconstruction" or "choice"
 
 
+BOND = "tests/test_fatigue_bond.py::"
+
 DECISIONS: tuple[Decision, ...] = (
     Decision("switch of the rate law, Eq. (2.112)", "|p| > r₂", "|p| > r₁",
              "r₂ is a viscosity (MPa s), r₁ the threshold (MPa); the printed switch compares unlike units and lets "
@@ -98,6 +100,48 @@ DECISIONS: tuple[Decision, ...] = (
              "strains under the tip reach order one; small strain changes f_ab by up to 0.07 between meshes",
              ("tests/test_finite_strain.py::test_fbar_tangent_is_the_derivative_of_its_force",), "scratch_volume",
              "choice"),
+    Decision("α of the bond's yield surface, seed 002 Eq. (18)", "garbled: '.2K 9 8 9 L M − 8 9 L M / K9'",
+             "α = √(2cσ_t tan φ − σ_t² tan² φ)/c",
+             "the only reading under which the surface passes through both strengths the prose names: σ_t(1 − D) at "
+             "σ_s = 0 and c(1 − D) at σ_n = 0; the prose's 'shear has just reached yield at D = 0.4 under 60 kPa' "
+             "then holds exactly",
+             (BOND + "test_yield_surface_passes_through_the_tensile_strength_and_the_cohesion",
+              BOND + "test_table_one_reading_agrees_with_the_prose"), "fatigue", "reconstruction"),
+    Decision("damage of the bond, seed 002 Eqs. (17), (21), (22)", "ΔD = χ[1 − exp(−Δκ)], χ = exp(−κ), from D₀",
+             "χ = 1 − D, so D = 1 − (1 − D₀) e^(−κ)",
+             "the printed χ sums to D₀ + 1 − e^(−κ), which passes 1 for D₀ > 0; both agree at D₀ = 0",
+             (BOND + "test_damage_law_composes_and_stays_below_one",
+              BOND + "test_monotonic_tests_peak_at_the_strengths_and_dissipate_the_softening_area"), "fatigue",
+             "reconstruction"),
+    Decision("far branch of the bond's hyperbola", "F = α²σ_s² − q² + q₀² (q = c(1 − D) − σ_n tan φ)",
+             "−q|q| for −q²", "the printed F turns negative again far on the tension side, where a large trial "
+             "stress would read as elastic",
+             (BOND + "test_yield_surface_passes_through_the_tensile_strength_and_the_cohesion",), "fatigue", "choice"),
+    Decision("geometric factor, seed 002 Eq. (31)", "(1 − 0.025D² + 0.06D⁴) sec(πD/2) (root lost)",
+             "(1 − 0.025D² + 0.06D⁴) √sec(πD/2), Tada et al. (1973)",
+             "Tada's centre-cracked strip; it meets Isida's exact values to 0.1 %, the printed form misses them by "
+             "19 % at D = 0.5 and 48 % at 0.7",
+             (BOND + "test_geometric_factor_is_the_centre_cracked_strip",), "fatigue", "misprint"),
+    Decision("fatigue threshold a of Table 1", "not listed; the prose asks a < 0.6",
+             "a = 0.5", "the 60 kPa cycles must exceed the fatigue criterion in tension (a < 0.505) as well as in "
+             "shear for the two histories to coincide, as the paper states",
+             (BOND + "test_table_one_reading_agrees_with_the_prose",
+              BOND + "test_tension_and_shear_fatigue_histories_coincide"), "fatigue", "reconstruction"),
+    Decision("mode I stress range, seed 002 Eq. (29)", "Δσ_n = σ_n^max − σ_n^min",
+             "⟨σ_n^max⟩ − ⟨σ_n^min⟩ (tensile parts)", "a crack closed in compression sees no mode I loading; equal "
+             "to the printed range for the paper's tension cycles",
+             (BOND + "test_mixed_mode_range_adds_in_quadrature",), "fatigue", "choice"),
+    Decision("cycle counts of Fig. 11", "2008 (m = 0.8) and 50 (m = 1.2) cycles for 20–60 kPa cycles",
+             "the printed range (40 kPa): 2777 and 80; the paper's counts are reproduced to the cycle by a 60 kPa "
+             "range", "the equations give 2777 and 80; the paper's numbers correspond to ΔK from the 60 kPa peak, "
+             "as if the cycle's minimum were taken as 0; its cycle-jump percentages say the same",
+             (BOND + "test_papers_cycle_counts_are_those_of_a_zero_to_peak_stress_range",
+              BOND + "test_papers_cycle_jump_counts_are_ratios_of_a_zero_to_peak_run"), "fatigue", "ambiguity"),
+    Decision("cycle jump count, seed 002 Eq. (40)", "N_jump = ΔD_jump / ΔD_max (not an integer)",
+             "rounded to the nearest integer, at least 1",
+             "rounding reproduces the paper's 797.4 % (311/39) to the digit and its 388.8 % to one simulated cycle; "
+             "'reduce by' is read as the ratio full/simulated",
+             (BOND + "test_papers_cycle_jump_counts_are_ratios_of_a_zero_to_peak_run",), "fatigue", "reconstruction"),
 )
 
 
