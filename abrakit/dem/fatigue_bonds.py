@@ -41,6 +41,8 @@ class FatigueBonds:
     j: np.ndarray
     width: np.ndarray            # L [m]
     area: np.ndarray             # A = L t [m²]
+    kn: np.ndarray               # k_n [Pa/m]
+    ks: np.ndarray               # k_s [Pa/m]
     elastic_n: np.ndarray        # e_n = u_n − u_nᵖ − u_nᶠ [m], opening positive
     elastic_s: np.ndarray        # (3, B) e_s [m]
     damage: np.ndarray           # D
@@ -55,7 +57,7 @@ class FatigueBonds:
     @classmethod
     def empty(cls, params: BondParameters | None = None) -> FatigueBonds:
         z = np.zeros(0)
-        return cls(np.zeros(0, np.int64), np.zeros(0, np.int64), z, z, z, np.zeros((3, 0)), z, np.zeros((2, 0)),
+        return cls(np.zeros(0, np.int64), np.zeros(0, np.int64), z, z, z, z, z, np.zeros((3, 0)), z, np.zeros((2, 0)),
                    np.zeros((2, 0)), np.zeros((2, 0)), np.zeros((2, 0)), np.zeros((2, 0)), np.zeros(0, bool),
                    BondParameters() if params is None else params)
 
@@ -88,7 +90,8 @@ class FatigueBonds:
         trial_s = start_s + (v_rel - vn * n) * dt
         size_s = np.sqrt(dot(trial_s, trial_s))
         du_n, du_s, damage, sigma_n, sigma_s = plastic_return(
-            trial_n, size_s, self.damage, p, start=(start_n, np.sqrt(dot(start_s, start_s))))
+            trial_n, size_s, self.damage, p, start=(start_n, np.sqrt(dot(start_s, start_s))),
+            stiffness=(self.kn, self.ks))
         shrink = np.divide(size_s - du_s, size_s, out=np.ones_like(size_s), where=size_s > 0)
         elastic_s = trial_s * shrink
         sigma = np.array([sigma_n, sigma_s])
@@ -97,18 +100,21 @@ class FatigueBonds:
                       plastic=self.plastic + np.abs([du_n, du_s]), sigma=sigma,
                       peak=np.maximum(self.peak, sigma), low=np.minimum(self.low, sigma),
                       yielded=self.yielded | plastic)
-        force = -self.area * (sigma_n * n + p.ks * (1.0 - damage) * elastic_s)
+        force = -self.area * (sigma_n * n + self.ks * (1.0 - damage) * elastic_s)
         lever = cross(n, force)
         return new, force, -arm_i * lever, -arm_j * lever, take(x, i) + arm_i * n
 
-    def onset_of_unloading(self, *, jump: float | None = None, max_cycles=None) -> int:
+    def onset_of_unloading(self, *, jump: float | None = None, max_cycles=None, hold_while_yielding=False) -> int:
         """The fatigue update of one load cycle at the onset of its unloading (Sec. 3.2, Fig. 5), in place.
 
         Bonds that did not yield since the last call and whose peak stress exceeds the fatigue criterion (Eq. 23)
         gain ΔD_f by Paris' law (Eq. 27) with the ranges peak − low (mode I: tensile part only), and the fatigue
         displacements of Eqs. (35–37), which lower their stresses as Eqs. (38, 39) state. With ``jump`` = ΔD_jump
-        the increments are extrapolated over N_jump cycles (Eqs. 40, 41). Returns the number of cycles this
-        update stands for (1 without a jump); the stress record restarts from the current stresses."""
+        the increments are extrapolated over N_jump cycles (Eqs. 40, 41). A bond that yielded in the sampled cycle
+        gets neither fatigue nor further plastic damage during the jump, as in the paper; with
+        ``hold_while_yielding`` no jump follows a cycle in which any bond yielded (a steadier but, where bonds
+        ratchet every cycle, a jump-free run). Returns the number of cycles this update stands for (1 without a
+        jump); the stress record restarts from the current stresses."""
         p = self.params
         count = 1
         if len(self):
@@ -117,7 +123,7 @@ class FatigueBonds:
             range_n = tensile_part(peak_n) - tensile_part(self.low[0])
             increment = np.where(fatigued, paris_increment(self.damage, range_n, peak_s - self.low[1], p,
                                                            self.width), 0.0)
-            if jump is not None and fatigued.any():
+            if jump is not None and fatigued.any() and not (hold_while_yielding and self.yielded.any()):
                 count, increment = cycle_jump(self.damage, increment, jump, max_cycles=max_cycles,
                                               exponent=p.paris_exponent)
             du_n, du_s = fatigue_displacements(self.damage, increment, peak_n, peak_s, p)
@@ -139,12 +145,14 @@ class FatigueBonds:
 
 
 def install_fatigue_bonds(sim, params: BondParameters, *, thickness=1.0, width_multiplier=1.0, gap=None,
-                          pairs=None) -> int:
-    """Add fatigue bonds between all touching pairs (gap ≤ ``gap``, or the given ``pairs`` (K, 2)); return how many.
+                          pairs=None, modulus=None, stiffness_ratio=None) -> int:
+    """Add fatigue bonds between all pairs with gap ≤ ``gap`` (or the given ``pairs`` (K, 2)); return how many.
 
     The width is L = 2 λ̄ min(r_A, r_B) with λ̄ = ``width_multiplier``; the area L × ``thickness`` (1 m for the
-    paper's 2D assemblies). All bonds share ``params``; its ``width`` is ignored (each bond has its own L). Bonds
-    start stress-free with D = D₀."""
+    paper's 2D assemblies). All bonds share ``params``; its ``width`` is ignored (each bond has its own L). With
+    ``modulus`` = E_c and ``stiffness_ratio`` = k_n/k_s the stiffnesses follow the deformable method of Potyondy &
+    Cundall (2004): k_n = E_c / (r_A + r_B), k_s = k_n / ratio (seed 002 Sec. 5.2); otherwise ``params.kn``,
+    ``params.ks``. Bonds start stress-free (at their current gap) with D = D₀."""
     check_positive("thickness", thickness)
     check_positive("width_multiplier", width_multiplier)
     if not isinstance(params, BondParameters):
@@ -153,8 +161,15 @@ def install_fatigue_bonds(sim, params: BondParameters, *, thickness=1.0, width_m
     r = sim.particles.radius
     width = 2.0 * width_multiplier * np.minimum(r[i], r[j])
     b = len(i)
+    if (modulus is None) != (stiffness_ratio is None):
+        raise ValueError("give both modulus and stiffness_ratio (deformable method) or neither")
+    if modulus is None:
+        kn, ks = np.full(b, params.kn), np.full(b, params.ks)
+    else:
+        kn = check_positive("modulus", modulus) / (r[i] + r[j])
+        ks = kn / check_positive("stiffness_ratio", stiffness_ratio)
     z2 = np.zeros((2, b))
-    new = FatigueBonds(i, j, width, width * thickness, np.zeros(b), np.zeros((3, b)),
+    new = FatigueBonds(i, j, width, width * thickness, kn, ks, np.zeros(b), np.zeros((3, b)),
                        np.full(b, params.initial_damage), z2, z2.copy(), z2.copy(), z2.copy(), z2.copy(),
                        np.zeros(b, bool), params)
     old = sim.fatigue_bonds

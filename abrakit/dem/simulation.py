@@ -153,6 +153,7 @@ class Simulation:
         self.step_count = 0
         self.removed = 0
         self.applied_force: np.ndarray | None = None     # (N, 3) external forces [N], optional
+        self.particle_force = np.zeros((len(particles), 3))   # last step's total force per particle [N]
         self.parallel_bonds = ParallelBonds.empty()
         self.fatigue_bonds = FatigueBonds.empty()
         self.cracks = CrackLog()
@@ -233,6 +234,7 @@ class Simulation:
         stored += self._ball_wall(force, torque)
         stored += self._parallel_bonds(force, torque)
         stored += self._fatigue_bonds(force, torque)
+        self.particle_force = force                              # this step's force on each particle (reactions)
         kick = 0.5 * dt if self.step_count == 0 else dt             # v given at t = 0: start with a half kick
         if self.kernel == "numba" and not self.track_energy and self.clumps is None:
             from abrakit.dem.kernels import advance
@@ -604,7 +606,7 @@ class Simulation:
                                   + b.ks * b.area * p.radius[idx] ** 2))
         f = self.fatigue_bonds
         if len(f):
-            k = max(f.params.kn, f.params.ks) * f.area
+            k = np.maximum(f.kn, f.ks) * f.area
             for idx in (f.i, f.j):
                 springs_t.append((idx, k))
                 springs_r.append((idx, k * p.radius[idx] ** 2))
@@ -707,6 +709,7 @@ class Simulation:
         self.fatigue_bonds = f
         if self.applied_force is not None:
             self.applied_force = self.applied_force[keep]
+        self.particle_force = self.particle_force[keep]
         self.particles = p.take(keep)
         self.removed += int(mask.sum())
         movable = ~self.particles.fixed & (self.particles.clump < 0)

@@ -128,25 +128,26 @@ def damage_after(damage, du_n, du_s, p: BondParameters):
     return damage - (1.0 - damage) * np.expm1(-np.abs(du_n) / p.un - np.abs(du_s) / p.us)
 
 
-def bond_stresses(elastic_n, elastic_s, damage, p: BondParameters):
+def bond_stresses(elastic_n, elastic_s, damage, p: BondParameters, kn=None, ks=None):
     """(σ_n, σ_s) from the elastic displacements uᵉ = u − uᵖ − uᶠ (Eq. 15, 16): degraded stiffness in tension,
-    full normal stiffness in compression."""
+    full normal stiffness in compression. ``kn``, ``ks`` (per bond) replace ``p.kn``, ``p.ks`` if given."""
+    kn, ks = (p.kn if kn is None else kn), (p.ks if ks is None else ks)
     elastic_n = np.asarray(elastic_n, float)
     intact = 1.0 - np.asarray(damage, float)
-    sigma_n = p.kn * np.where(elastic_n >= 0.0, intact, 1.0) * elastic_n
-    return sigma_n, p.ks * intact * np.asarray(elastic_s, float)
+    sigma_n = kn * np.where(elastic_n >= 0.0, intact, 1.0) * elastic_n
+    return sigma_n, ks * intact * np.asarray(elastic_s, float)
 
 
-def _return_residual(y, trial_n, trial_s, damage, p, normal_stress):
+def _return_residual(y, trial_n, trial_s, damage, p, normal_stress, kn, ks):
     """Residual of the plastic return in scaled unknowns y = (Δu_nᵖ/ū_n, Δu_sᵖ/ū_s, 2Δλ c/ū_s), shape (3, B);
     F is scaled by the start-of-step cohesion c(1 − D)."""
     a, b, lam = y
     d = damage_after(damage, a * p.un, b * p.us, p)
     if normal_stress is None:
-        sigma_n, sigma_s = bond_stresses(trial_n - a * p.un, trial_s - b * p.us, d, p)
+        sigma_n, sigma_s = bond_stresses(trial_n - a * p.un, trial_s - b * p.us, d, p, kn, ks)
     else:
         sigma_n = normal_stress
-        sigma_s = p.ks * (1.0 - d) * (trial_s - b * p.us)
+        sigma_s = ks * (1.0 - d) * (trial_s - b * p.us)
     g = lam * p.us / p.cohesion                                   # 2Δλ [m/Pa]
     flow_n, flow_s = flow_direction(sigma_n, sigma_s, d, p)
     r = np.array([a - g * flow_n / p.un, b - g * flow_s / p.us,
@@ -191,15 +192,16 @@ def _newton(y, args, tol, max_iter):
     return y, np.max(np.abs(r), axis=0) < tol
 
 
-def plastic_return(trial_n, trial_s, damage, p: BondParameters, *, normal_stress=None, start=None, tol=1e-12,
-                   max_iter=60, max_halvings=12):
+def plastic_return(trial_n, trial_s, damage, p: BondParameters, *, normal_stress=None, start=None, stiffness=None,
+                   tol=1e-12, max_iter=60, max_halvings=12):
     """Return a trial state onto the yield surface (Eqs. 15–22); vectorised over bonds.
 
     ``trial_n``, ``trial_s`` are the elastic displacements u − uᵖ − uᶠ at the start-of-step plastic state, ``damage``
     the damage at the start of the step. With ``normal_stress`` given, σ_n is prescribed (a free normal
     displacement, e.g. pure shear at σ_n = 0) and ``trial_n`` is ignored. ``start`` = (start_n, start_s), the
     elastic displacements at the start of the step, lets a bond whose Newton iteration fails (a trial many times
-    beyond the strength) split its step in halves, up to ``max_halvings`` times.
+    beyond the strength) split its step in halves, up to ``max_halvings`` times. ``stiffness`` = (k_n, k_s) per bond
+    replaces ``p.kn``, ``p.ks`` (bonds of different sizes in a DEM assembly).
 
     Returns ``(du_n_p, du_s_p, damage, sigma_n, sigma_s)``; bonds inside the surface return zero increments. The
     three equations (flow rule Eq. 19, 20 and F = 0 with the damage of Eq. 21 at the *end* of the step, fully
@@ -208,11 +210,13 @@ def plastic_return(trial_n, trial_s, damage, p: BondParameters, *, normal_stress
     """
     trial_n, trial_s, damage = np.broadcast_arrays(*(np.atleast_1d(check_finite(name, v)) for name, v in
                                                       (("trial_n", trial_n), ("trial_s", trial_s), ("damage", damage))))
+    kn, ks = (np.broadcast_to(np.asarray(k, float), trial_s.shape)
+              for k in ((p.kn, p.ks) if stiffness is None else stiffness))
     if normal_stress is not None:
         normal_stress = np.broadcast_to(np.asarray(normal_stress, float), trial_s.shape)
-        sigma_n, sigma_s = normal_stress.copy(), p.ks * (1.0 - damage) * trial_s
+        sigma_n, sigma_s = normal_stress.copy(), ks * (1.0 - damage) * trial_s
     else:
-        sigma_n, sigma_s = bond_stresses(trial_n, trial_s, damage, p)
+        sigma_n, sigma_s = bond_stresses(trial_n, trial_s, damage, p, kn, ks)
     du_n, du_s, d = np.zeros_like(trial_s), np.zeros_like(trial_s), damage.copy()
     # F is measured against the current cohesion c(1 − D), so the tolerance stays relative as D → 1.
     active = np.flatnonzero(criterion(sigma_n, sigma_s, damage, p) > tol * (p.cohesion * (1.0 - damage)) ** 2)
@@ -225,9 +229,9 @@ def plastic_return(trial_n, trial_s, damage, p: BondParameters, *, normal_stress
     fn, fs = flow_direction(sn, ss, d0, p)
     dfn = 2.0 * p.tan_phi * np.abs(p.cohesion * (1.0 - d0) - sn * p.tan_phi)
     dfs = 2.0 * p.alpha**2 * ss
-    stiff_n = 0.0 if fixed is not None else p.kn * (1.0 - d0)
-    g0 = criterion(sn, ss, d0, p) / (dfn * stiff_n * fn + dfs * p.ks * (1.0 - d0) * fs)
-    args = (tn, ts, d0, p, fixed)
+    stiff_n = 0.0 if fixed is not None else kn[active] * (1.0 - d0)
+    g0 = criterion(sn, ss, d0, p) / (dfn * stiff_n * fn + dfs * ks[active] * (1.0 - d0) * fs)
+    args = (tn, ts, d0, p, fixed, kn[active], ks[active])
     y, converged = _newton(np.array([g0 * fn / p.un, g0 * fs / p.us, g0 * p.cohesion / p.us]), args, tol, max_iter)
     _, d_act, sn, ss = _return_residual(y, *args)
     du_n[active], du_s[active], d[active] = y[0] * p.un, y[1] * p.us, d_act
@@ -241,7 +245,8 @@ def plastic_return(trial_n, trial_s, damage, p: BondParameters, *, normal_stress
         start_n, start_s = (np.broadcast_to(np.asarray(v, float), trial_s.shape)[failed] for v in start)
         fixed = None if normal_stress is None else normal_stress[failed]
         mid_n, mid_s = 0.5 * (start_n + trial_n[failed]), 0.5 * (start_s + trial_s[failed])
-        kw = {"normal_stress": fixed, "tol": tol, "max_iter": max_iter, "max_halvings": max_halvings - 1}
+        kw = {"normal_stress": fixed, "stiffness": (kn[failed], ks[failed]), "tol": tol, "max_iter": max_iter,
+              "max_halvings": max_halvings - 1}
         dn1, ds1, d1, *_ = plastic_return(mid_n, mid_s, damage[failed], p, start=(start_n, start_s), **kw)
         dn2, ds2, d[failed], sigma_n[failed], sigma_s[failed] = plastic_return(
             trial_n[failed] - dn1, trial_s[failed] - ds1, d1, p, start=(mid_n - dn1, mid_s - ds1), **kw)
