@@ -1,7 +1,8 @@
 """Result files written as a run goes, so an interrupted run loses nothing already computed.
 
 - :class:`CurveWriter` appends one CSV row per step and flushes it at once.
-- :func:`write_json` writes atomically (temporary file, then rename).
+- :func:`write_json` writes atomically (temporary file, then rename); :func:`save_state`/:func:`load_state` pickle a
+  run's state the same way, for resuming.
 - :func:`progress_bar` is the one tqdm bar every long run shows.
 - :class:`VtuSeries` writes one ``.vtu`` per step with meshio and keeps a ParaView ``.pvd`` index current.
 """
@@ -11,6 +12,7 @@ from __future__ import annotations
 import csv
 import json
 import os
+import pickle
 import tempfile
 from pathlib import Path
 
@@ -41,19 +43,35 @@ def progress_bar(iterable=None, **kwargs):
     return tqdm(iterable, **kwargs)
 
 
-def write_json(path, data) -> Path:
-    """Write ``data`` (dicts, lists, numpy values) as indented JSON, atomically: into a temporary file of a unique
-    name beside it, then renamed over it, so two processes writing the same file never mix their bytes (the last
-    rename wins, and a reader sees one whole version)."""
+def _write_atomically(path, payload: bytes) -> Path:
+    """Write ``payload`` into a temporary file of a unique name beside ``path``, then rename it over ``path``: two
+    processes writing the same file never mix their bytes (the last rename wins), a reader sees one whole version,
+    and an interruption leaves the previous file intact."""
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
-    text = json.dumps(jsonable(data), indent=2)
-    with tempfile.NamedTemporaryFile("w", dir=path.parent, prefix=f".{path.name}.", suffix=".tmp",
+    with tempfile.NamedTemporaryFile("wb", dir=path.parent, prefix=f".{path.name}.", suffix=".tmp",
                                      delete=False) as handle:
-        handle.write(text)
+        handle.write(payload)
     os.chmod(handle.name, 0o644)          # a temporary file is private (0600); a result file is not
     os.replace(handle.name, path)
     return path
+
+
+def write_json(path, data) -> Path:
+    """Write ``data`` (dicts, lists, numpy values) as indented JSON, atomically (:func:`_write_atomically`)."""
+    return _write_atomically(path, json.dumps(jsonable(data), indent=2).encode())
+
+
+def save_state(path, state) -> Path:
+    """Pickle a run's state (a simulation snapshot and its records) atomically, to resume it with
+    :func:`load_state`. Only for files this toolkit wrote: unpickling runs code."""
+    return _write_atomically(path, pickle.dumps(state, protocol=pickle.HIGHEST_PROTOCOL))
+
+
+def load_state(path):
+    """The state :func:`save_state` wrote, or ``None`` if ``path`` does not exist."""
+    path = Path(path)
+    return pickle.loads(path.read_bytes()) if path.exists() else None
 
 
 def read_json(path):
