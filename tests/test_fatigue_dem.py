@@ -74,8 +74,11 @@ def test_a_bond_that_yields_in_a_cycle_gets_no_fatigue_damage():
         sim.step()
     d = sim.fatigue_bonds.damage[0]
     assert sim.fatigue_bonds.yielded[0]
+    held = sim.snapshot()
     sim.fatigue_bonds.onset_of_unloading()
     assert sim.fatigue_bonds.damage[0] == d and sim.fatigue_bonds.fatigue[0, 0] == 0.0
+    sim.restore(held)
+    assert sim.fatigue_bonds.onset_of_unloading(jump=0.01, hold_while_yielding=True) == 1
 
 
 def test_cycle_jump_on_a_bonded_specimen_keeps_the_largest_damage_close_and_saves_cycles():

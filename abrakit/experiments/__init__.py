@@ -4,6 +4,7 @@
 :mod:`.specimen`                       genesis (Ch. 5.3.1): expansion, consolidation, bonds, cached specimens
 :mod:`.compression`                    strain-controlled tests, the three measurement schemes (Fig. 5.2)
 :mod:`.closed_form_checks`             Eq. (5.20)/(5.26) against the DEM, envelopes, grain shape (Ch. 5.4)
+:mod:`.bending`                        four-point bending fatigue of a cemented beam (seed 002, Sec. 5)
 =====================================  ==================================================================
 """
 
