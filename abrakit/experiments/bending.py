@@ -253,11 +253,12 @@ def cyclic_bending(beam: Beam, load_max: float, *, load_min_ratio: float = 0.0, 
     load and deflection. E_f,0 is the mean over the cycles up to ``reference_cycles`` (the paper's first 50); the
     run ends when E_f/E_f,0 ≤ ``life_ratio`` (the fatigue life), when the beam fails, or when a whole cycle left
     every bond's damage unchanged (``"shakedown"``: the next cycle would repeat it). Returns per simulated cycle
-    ``cycles``, ``modulus``, ``deflection``, ``residual`` (δ at the cycle's end), ``damaged`` (D > 2 D₀) and
-    ``broken`` bond counts, plus ``life`` (or None), ``stopped`` and the timing; with ``csv`` each row is written
-    as it is computed. With ``checkpoint`` (a file) the state is saved after every simulated cycle and a run that
-    finds the file resumes from it, rewriting ``csv`` from the saved records: an interrupted run loses at most the
-    cycle it was in and then finishes with the same history. ``max_simulated`` stops after that many simulated
+    ``cycles``, ``modulus``, ``deflection``, ``residual`` (δ at the cycle's end), ``damaged`` (D > 2 D₀),
+    ``yielding`` (bonds that yielded in the sampled cycle, hence got no fatigue) and ``broken`` bond counts,
+    plus ``life`` (or None), ``stopped`` and the timing; with ``csv`` each row is written as it is computed.
+    With ``checkpoint`` (a file) the state is saved after every simulated cycle and a run that finds the file
+    resumes from it, rewriting ``csv`` from the saved records: an interrupted run loses at most the cycle it was in
+    and then finishes with the same history. ``max_simulated`` stops after that many simulated
     cycles in this call (an interruption on purpose)."""
     check_positive("load_max", load_max)
     check_range("load_min_ratio", load_min_ratio, 0.0, 1.0, high_open=True)
@@ -266,7 +267,7 @@ def cyclic_bending(beam: Beam, load_max: float, *, load_min_ratio: float = 0.0, 
     sim = beam.sim
     if beam.control != "force":
         raise ValueError("cyclic_bending needs a beam built with control='force'")
-    columns = ("cycles", "modulus", "deflection", "residual", "damaged", "broken")
+    columns = ("cycles", "modulus", "deflection", "residual", "damaged", "yielding", "broken")
     saved = None if checkpoint is None else load_state(checkpoint)
     record = {k: [] for k in columns} if saved is None else saved["record"]
     cycles = 0 if saved is None else saved["cycles"]
@@ -288,11 +289,13 @@ def cyclic_bending(beam: Beam, load_max: float, *, load_min_ratio: float = 0.0, 
             beam.step()
             if k == peak_step:
                 d_peak = beam.deflection()
+                yielding = int(sim.fatigue_bonds.yielded.sum())
                 cycles += sim.fatigue_bonds.onset_of_unloading(jump=jump, max_cycles=max_cycles - cycles)
         modulus = float(flexural(load_max, d_peak, beam.spec)["modulus"])
         b = sim.fatigue_bonds
         row = {"cycles": cycles, "modulus": modulus, "deflection": d_peak, "residual": beam.deflection(),
-               "damaged": int(np.sum(b.damage > 2 * b.params.initial_damage)), "broken": len(sim.cracks)}
+               "damaged": int(np.sum(b.damage > 2 * b.params.initial_damage)), "yielding": yielding,
+               "broken": len(sim.cracks)}
         for key, v in row.items():
             record[key].append(v)
         if writer is not None:
