@@ -28,6 +28,7 @@ class Decision:
 
 
 BOND = "tests/test_fatigue_bond.py::"
+BEND = "tests/test_experiments_bending.py::"
 
 DECISIONS: tuple[Decision, ...] = (
     Decision("switch of the rate law, Eq. (2.112)", "|p| > r₂", "|p| > r₁",
@@ -142,6 +143,26 @@ DECISIONS: tuple[Decision, ...] = (
              "rounding reproduces the paper's 797.4 % (311/39) to the digit and its 388.8 % to one simulated cycle; "
              "'reduce by' is read as the ratio full/simulated",
              (BOND + "test_papers_cycle_jump_counts_are_ratios_of_a_zero_to_peak_run",), "fatigue", "reconstruction"),
+    Decision("particles of the bending beam, seed 002 Sec. 5.1", "poly-disperse, radii 1–19 mm after the "
+             "aggregate grading (Fig. 13, lost)", "hexagonal lattice, radii in [0.8 r̄, r̄], r̄ = 2.5–5 mm",
+             "no genesis run, one number sets the resolution, and the elastic beam can be checked against the "
+             "same material in uniaxial tension", (BEND + "test_elastic_beam_modulus_is_timoshenkos_with_the_uniaxial_"
+                                                  "modulus_of_the_same_material", "benchmarks/bench_fatigue_beam.py"),
+             "four_point_bending", "choice"),
+    Decision("rollers of the bending beam", "walls touching the beam", "the disks under a 10 mm pad, guided in y "
+             "(supports held, loading particles driven), free in x",
+             "a rigid disk touching one particle crushed the bonds under it at a tenth of the strength; a pad "
+             "spreads the load as the paper's walls do, and a guide in y only is a frictionless roller",
+             (BEND + "test_damage_starts_at_the_bottom_between_the_loading_rollers",), "four_point_bending", "choice"),
+    Decision("FS_max of the beam", "1336.4 kPa with σ_t = c = 74 kPa (Table 2)", "Table 2 kept; FS_max ≈ 3 σ_t",
+             "a section whose bonds cap tension at σ_t carries at most FS = 3 σ_t = 222 kPa; 1336 kPa is 18 σ_t, so "
+             "the table's strengths or the thickness in Eq. (42) differ from what the text implies",
+             ("benchmarks/bench_fatigue_beam.py",), "four_point_bending", "ambiguity"),
+    Decision("cycle jump after a yielding cycle", "not addressed", "the paper's: the jump proceeds; "
+             "``hold_while_yielding`` skips it after a cycle in which a bond yielded",
+             "on the 5 mm beam at 77 % some bond yields in every cycle, so holding disables the jump (900 cycles in "
+             "900 s, no life); jumping freezes those bonds' plastic damage for N_jump cycles and the life depends on "
+             "ΔD_jump (benchmark)", ("benchmarks/bench_fatigue_beam.py",), "four_point_bending", "choice"),
 )
 
 
