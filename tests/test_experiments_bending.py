@@ -106,13 +106,22 @@ def test_an_interrupted_cyclic_run_resumes_from_its_checkpoint_with_the_same_his
     kwargs = {"jump": 0.01, "steps_per_cycle": 1000, "max_cycles": 20_000}
     full = cyclic_bending(four_point_beam(COARSE, control="force"), 120.0, **kwargs)
     state, csv = tmp_path / "beam.state", tmp_path / "beam.csv"
+    vtu = tmp_path / "bonds"
     first = cyclic_bending(four_point_beam(COARSE, control="force"), 120.0, checkpoint=state, csv=csv,
-                           max_simulated=2, **kwargs)
+                           max_simulated=2, vtu=vtu, **kwargs)
     assert first["stopped"] == "max_simulated" and first["simulated_cycles"] == 2
-    resumed = cyclic_bending(four_point_beam(COARSE, control="force"), 120.0, checkpoint=state, csv=csv, **kwargs)
+    resumed = cyclic_bending(four_point_beam(COARSE, control="force"), 120.0, checkpoint=state, csv=csv, vtu=vtu,
+                             **kwargs)
     assert resumed["stopped"] == full["stopped"] == "life"
     for key in ("cycles", "modulus", "damaged"):
         assert np.array_equal(resumed[key], full[key]), key
     from abrakit.io import read_curve
 
     assert np.array_equal(read_curve(csv)["cycles"], full["cycles"])
+    import meshio
+
+    index = (vtu / "bonds.pvd").read_text()
+    assert index.count("<DataSet") == len(full["cycles"])                   # cycles before and after the resume
+    last = meshio.read(sorted(vtu.glob("bonds_*.vtu"))[-1])
+    damage = last.cell_data["damage"][0]
+    assert len(damage) == len(last.cells_dict["line"]) and damage.max() > 0.02

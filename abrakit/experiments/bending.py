@@ -34,7 +34,7 @@ from abrakit.dem.fatigue_bonds import install_fatigue_bonds
 from abrakit.dem.simulation import Simulation
 from abrakit.dem.state import Particles
 from abrakit.fatigue.bond_law import BondParameters
-from abrakit.io import CurveWriter, load_state, save_state
+from abrakit.io import CurveWriter, VtuSeries, load_state, save_state
 from abrakit.validation import check_option, check_positive, check_range
 
 __all__ = ["Beam", "BeamSpec", "beam_theory_deflection", "cyclic_bending", "flexural", "four_point_beam",
@@ -241,10 +241,19 @@ def monotonic_bending(beam: Beam, *, speed: float = 5e-4, max_deflection: float 
     return out
 
 
+def _write_bonds(series: VtuSeries, cycles: int, sim: Simulation) -> None:
+    """One VTU of the bonds (line cells between particle centres) with their state, at time = ``cycles``."""
+    b = sim.fatigue_bonds
+    series.write(cycles, sim.particles.x, [("line", np.column_stack([b.i, b.j]))],
+                 point_data={"radius": sim.particles.radius},
+                 cell_data={"damage": [b.damage], "fatigue_displacement": [b.fatigue.sum(axis=0)],
+                            "plastic_displacement": [b.plastic.sum(axis=0)], "yielded": [b.yielded.astype(float)]})
+
+
 def cyclic_bending(beam: Beam, load_max: float, *, load_min_ratio: float = 0.0, steps_per_cycle: int = 4000,
                    jump: float | None = None, life_ratio: float = 0.5, max_cycles: int = 100_000,
                    reference_cycles: int = 50, csv=None, time_limit: float | None = None, checkpoint=None,
-                   max_simulated: int | None = None) -> dict:
+                   max_simulated: int | None = None, vtu=None) -> dict:
     """Haversine cyclic load between ``load_min_ratio`` × and 1 × ``load_max`` [N] (Fig. 16), shared by the
     loading particles.
 
@@ -258,7 +267,9 @@ def cyclic_bending(beam: Beam, load_max: float, *, load_min_ratio: float = 0.0, 
     plus ``life`` (or None), ``stopped`` and the timing; with ``csv`` each row is written as it is computed.
     With ``checkpoint`` (a file) the state is saved after every simulated cycle and a run that finds the file
     resumes from it, rewriting ``csv`` from the saved records: an interrupted run loses at most the cycle it was in
-    and then finishes with the same history. ``max_simulated`` stops after that many simulated
+    and then finishes with the same history. With ``vtu`` (a directory) every simulated cycle also writes the bonds
+    as line cells with their damage, fatigue and plastic displacements and yield flag (``bonds_*.vtu`` and
+    ``bonds.pvd`` for ParaView, time = cycle count). ``max_simulated`` stops after that many simulated
     cycles in this call (an interruption on purpose)."""
     check_positive("load_max", load_max)
     check_range("load_min_ratio", load_min_ratio, 0.0, 1.0, high_open=True)
@@ -277,6 +288,9 @@ def cyclic_bending(beam: Beam, load_max: float, *, load_min_ratio: float = 0.0, 
     if writer is not None:
         for row in zip(*record.values(), strict=True):
             writer.write(**dict(zip(columns, row, strict=True)))
+    series = None if vtu is None else VtuSeries(vtu, "bonds")
+    if series is not None:                 # a resumed run keeps the files it wrote before the interruption
+        series.entries = [(float(n), f"bonds_{k:05d}.vtu") for k, n in enumerate(record["cycles"])]
     clock, life, stopped, simulated = time.perf_counter(), None, "max_cycles", 0
     phase = np.arange(1, steps_per_cycle + 1) / steps_per_cycle
     profile = load_min_ratio + (1.0 - load_min_ratio) * 0.5 * (1.0 - np.cos(2.0 * np.pi * phase))
@@ -300,6 +314,8 @@ def cyclic_bending(beam: Beam, load_max: float, *, load_min_ratio: float = 0.0, 
             record[key].append(v)
         if writer is not None:
             writer.write(**row)
+        if series is not None:
+            _write_bonds(series, cycles, sim)
         if checkpoint is not None:
             save_state(checkpoint, {"sim": sim.snapshot(), "record": record, "cycles": cycles})
         simulated += 1
