@@ -24,8 +24,8 @@ import numpy as np
 
 from abrakit.dem.bonds import candidate_bond_pairs
 from abrakit.dem.contact_laws import cross, dot, turn_into_plane
-from abrakit.fatigue.bond_law import BondParameters, criterion, damage_after, plastic_return
-from abrakit.fatigue.paris import cycle_jump, fatigue_displacements, paris_increment, tensile_part
+from abrakit.fatigue.bond_law import BondParameters, plastic_return
+from abrakit.fatigue.paris import cycle_update
 from abrakit.validation import check_positive
 
 __all__ = ["FatigueBonds", "install_fatigue_bonds"]
@@ -115,24 +115,19 @@ class FatigueBonds:
         ``hold_while_yielding`` no jump follows a cycle in which any bond yielded (a steadier but, where bonds
         ratchet every cycle, a jump-free run). Returns the number of cycles this update stands for (1 without a
         jump); the stress record restarts from the current stresses."""
-        p = self.params
         count = 1
         if len(self):
-            peak_n, peak_s = self.peak
-            fatigued = ~self.yielded & (criterion(peak_n, peak_s, self.damage, p, level=p.threshold) >= 0.0)
-            range_n = tensile_part(peak_n) - tensile_part(self.low[0])
-            increment = np.where(fatigued, paris_increment(self.damage, range_n, peak_s - self.low[1], p,
-                                                           self.width), 0.0)
-            if jump is not None and fatigued.any() and not (hold_while_yielding and self.yielded.any()):
-                count, increment = cycle_jump(self.damage, increment, jump, max_cycles=max_cycles,
-                                              exponent=p.paris_exponent)
-            du_n, du_s = fatigue_displacements(self.damage, increment, peak_n, peak_s, p)
-            du_n, du_s = np.where(fatigued, du_n, 0.0), np.where(fatigued, np.abs(du_s), 0.0)
+            if hold_while_yielding and self.yielded.any():
+                jump = None
+            count, increment, du_n, du_s = cycle_update(self.damage, self.peak, self.low, self.params,
+                                                        width=self.width, eligible=~self.yielded, jump=jump,
+                                                        max_cycles=max_cycles)
+            du_s = np.abs(du_s)                             # along e_s: the shear stress here is a magnitude
             size_s = np.sqrt(dot(self.elastic_s, self.elastic_s))
             self.elastic_n = self.elastic_n - du_n
             self.elastic_s = self.elastic_s * np.divide(size_s - du_s, size_s, out=np.ones_like(size_s),
                                                         where=size_s > 0)
-            self.damage = np.where(fatigued, np.minimum(damage_after(self.damage, du_n, du_s, p), 1.0), self.damage)
+            self.damage = np.minimum(self.damage + increment, 1.0)
             self.fatigue = self.fatigue + np.array([du_n, du_s])
             self.peak, self.low = self.sigma.copy(), self.sigma.copy()
             self.yielded = np.zeros(len(self), bool)

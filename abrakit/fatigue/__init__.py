@@ -20,6 +20,7 @@ from abrakit.fatigue.bond_law import (
 )
 from abrakit.fatigue.paris import (
     cycle_jump,
+    cycle_update,
     fatigue_displacements,
     geometric_factor,
     paris_increment,
@@ -28,9 +29,9 @@ from abrakit.fatigue.paris import (
 )
 from abrakit.fatigue.single_bond import BondTest, cyclic_test, monotonic_test, softening_energy
 
-__all__ = ["BondParameters", "BondTest", "bond_stresses", "criterion", "cycle_jump", "cyclic_test", "damage_after",
-           "demo", "fatigue_displacements", "flow_direction", "geometric_factor", "monotonic_test", "paris_increment",
-           "plastic_return", "softening_energy", "stress_intensity_range", "tensile_part"]
+__all__ = ["BondParameters", "BondTest", "bond_stresses", "criterion", "cycle_jump", "cycle_update", "cyclic_test",
+           "damage_after", "demo", "fatigue_displacements", "flow_direction", "geometric_factor", "monotonic_test",
+           "paris_increment", "plastic_return", "softening_energy", "stress_intensity_range", "tensile_part"]
 
 
 def demo() -> str:

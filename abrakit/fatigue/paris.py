@@ -23,11 +23,11 @@ from __future__ import annotations
 
 import numpy as np
 
-from abrakit.fatigue.bond_law import BondParameters, flow_direction
+from abrakit.fatigue.bond_law import BondParameters, criterion, flow_direction
 from abrakit.validation import check_positive, check_range
 
-__all__ = ["cycle_jump", "fatigue_displacements", "geometric_factor", "paris_increment", "stress_intensity_range",
-           "tensile_part"]
+__all__ = ["cycle_jump", "cycle_update", "fatigue_displacements", "geometric_factor", "paris_increment",
+           "stress_intensity_range", "tensile_part"]
 
 
 def geometric_factor(damage):
@@ -98,3 +98,26 @@ def cycle_jump(damage, increment, jump: float, *, max_cycles=None, exponent=None
         factor = geometric_factor(np.minimum(d, 1.0 - 1e-12)) * np.sqrt(d) / reference
         d = np.minimum(d + np.where(growing, factor**exponent * increment, 0.0), 1.0)
     return n_jump, d - damage
+
+
+def cycle_update(damage, peak, low, p: BondParameters, *, width=None, eligible=True, jump: float | None = None,
+                 max_cycles=None):
+    """The fatigue update of one load cycle at the onset of its unloading (Sec. 3.2, Fig. 5), for bonds whose cycle
+    ran between the stresses ``low`` = (σ_n, σ_s) and ``peak`` = (σ_n, σ_s).
+
+    A bond is fatigued if it is ``eligible`` (it did not yield in the cycle: E = 1 in Eq. 17) and its peak exceeds
+    the fatigue criterion (Eq. 23); it gains ΔD_f by Paris' law (Eq. 27) with the ranges peak − low (mode I: tensile
+    parts), extrapolated by the cycle jump if ``jump`` is given (Eqs. 40, 41), and the fatigue displacements of
+    Eqs. (35–37). Returns ``(cycles, increment, du_n, du_s)``, zero for the bonds that are not fatigued."""
+    (peak_n, peak_s), (low_n, low_s) = peak, low
+    damage = np.asarray(damage, float)
+    fatigued = np.asarray(eligible) & (criterion(peak_n, peak_s, damage, p, level=p.threshold) >= 0.0)
+    range_n = tensile_part(peak_n) - tensile_part(low_n)
+    increment = np.where(fatigued, paris_increment(damage, range_n, np.abs(np.subtract(peak_s, low_s)), p, width),
+                         0.0)
+    cycles = 1
+    if jump is not None and np.any(fatigued):
+        cycles, increment = cycle_jump(damage, increment, jump, max_cycles=max_cycles, exponent=p.paris_exponent)
+        increment = increment.reshape(np.shape(damage))
+    du_n, du_s = fatigue_displacements(damage, increment, peak_n, peak_s, p)
+    return cycles, increment, np.where(fatigued, du_n, 0.0), np.where(fatigued, du_s, 0.0)

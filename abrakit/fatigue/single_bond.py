@@ -20,7 +20,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from abrakit.fatigue.bond_law import BondParameters, bond_stresses, criterion, plastic_return
-from abrakit.fatigue.paris import cycle_jump, fatigue_displacements, paris_increment, tensile_part
+from abrakit.fatigue.paris import cycle_update
 from abrakit.validation import check_option, check_positive, check_range
 
 __all__ = ["BondTest", "cyclic_test", "monotonic_test", "softening_energy"]
@@ -107,18 +107,11 @@ class BondTest:
             return False
         self._set_stress(stress_min)
         self._set_stress(stress_max)
-        n = 1
-        if criterion(*peak, self.damage, self.p, level=self.p.threshold) >= 0.0:   # onset of unloading (Eq. 23)
-            low = (stress_min, 0.0) if self.mode == "tension" else (0.0, stress_min)
-            range_n = tensile_part(peak[0]) - tensile_part(low[0])
-            increment = paris_increment(self.damage, range_n, abs(peak[1] - low[1]), self.p)
-            if jump is not None:
-                n, increment = cycle_jump(self.damage, increment, jump, max_cycles=max_cycles,
-                                          exponent=self.p.paris_exponent)
-            increment = float(np.squeeze(increment))
-            dn, ds = fatigue_displacements(self.damage, increment, *peak, self.p)
+        low = (stress_min, 0.0) if self.mode == "tension" else (0.0, stress_min)
+        n, increment, dn, ds = cycle_update(self.damage, peak, low, self.p, jump=jump, max_cycles=max_cycles)
+        if increment > 0.0:                                 # at the onset of unloading (Sec. 3.2)
             self.uf += (float(dn), float(ds))
-            self.damage += increment
+            self.damage += float(increment)
             self._set_stress(stress_max)
         self._set_stress(stress_min)
         self.simulated_cycles += 1
