@@ -25,8 +25,8 @@ from abrakit.dem.contact_laws import cross, dot, turn_into_plane
 from abrakit.dem.state import pair_keys
 from abrakit.validation import check_positive
 
-__all__ = ["CrackLog", "ParallelBonds", "candidate_bond_pairs", "install_contact_bonds", "install_parallel_bonds",
-           "parallel_bond_update"]
+__all__ = ["CrackLog", "ParallelBonds", "bond_kinematics", "candidate_bond_pairs", "install_contact_bonds",
+           "install_parallel_bonds", "parallel_bond_update"]
 
 
 class CrackLog:
@@ -188,13 +188,10 @@ def install_parallel_bonds(sim, *, kn, ks, tensile_strength, shear_strength, rad
     return b
 
 
-def parallel_bond_update(bonds: ParallelBonds, x, v, w, radius, dt):
-    """One incremental update of all parallel bonds; a pure function of the old bond state.
-
-    Returns ``(new_bonds, force_on_j, torque_on_i, torque_on_j, tension, shear, contact_point)`` (vectors (3, B))
-    where the masks mark bonds whose σ_max ≥ σ̄_c (tension) or τ_max ≥ τ̄_c (shear) after the update.
-    """
-    i, j = bonds.i, bonds.j
+def bond_kinematics(i, j, x, v, w, radius):
+    """Geometry and relative motion of bonded pairs ``i``–``j`` (body j relative to body i, Eq. 4.4): unit normal
+    ``n`` (3, B) from i to j, lever arms to the contact point, relative velocity at the contact point ``v_rel``
+    (3, B), its normal component ``vn`` and the contact point; shared by the parallel and the fatigue bonds."""
     take = lambda a, idx: np.take(a.T, idx, axis=1)
     d = take(x, j) - take(x, i)
     dist = np.sqrt(dot(d, d))
@@ -203,8 +200,18 @@ def parallel_bond_update(bonds: ParallelBonds, x, v, w, radius, dt):
     arm_i = radius[i] - 0.5 * overlap                  # centre of A to the contact point, Eq. (4.4)
     arm_j = radius[j] - 0.5 * overlap
     v_rel = take(v, j) - take(v, i) - cross(arm_i * take(w, i) + arm_j * take(w, j), n)
-    vn = dot(v_rel, n)
-    w_rel = take(w, j) - take(w, i)
+    return n, arm_i, arm_j, v_rel, dot(v_rel, n), take(x, i) + arm_i * n
+
+
+def parallel_bond_update(bonds: ParallelBonds, x, v, w, radius, dt):
+    """One incremental update of all parallel bonds; a pure function of the old bond state.
+
+    Returns ``(new_bonds, force_on_j, torque_on_i, torque_on_j, tension, shear, contact_point)`` (vectors (3, B))
+    where the masks mark bonds whose σ_max ≥ σ̄_c (tension) or τ_max ≥ τ̄_c (shear) after the update.
+    """
+    i, j = bonds.i, bonds.j
+    n, arm_i, arm_j, v_rel, vn, point = bond_kinematics(i, j, x, v, w, radius)
+    w_rel = np.take(w.T, j, axis=1) - np.take(w.T, i, axis=1)
     twist = dot(w_rel, n)
     A, I, J = bonds.area, bonds.inertia, bonds.polar
 
@@ -222,5 +229,4 @@ def parallel_bond_update(bonds: ParallelBonds, x, v, w, radius, dt):
     sigma, tau = new.stresses()
     tension = sigma >= bonds.tensile_strength
     shear = ~tension & (tau >= bonds.shear_strength)
-    point = take(x, i) + arm_i * n
     return new, force, torque_i, torque_j, tension, shear, point

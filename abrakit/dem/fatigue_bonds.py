@@ -22,7 +22,7 @@ from dataclasses import dataclass, fields, replace
 
 import numpy as np
 
-from abrakit.dem.bonds import candidate_bond_pairs
+from abrakit.dem.bonds import bond_kinematics, candidate_bond_pairs
 from abrakit.dem.contact_laws import cross, dot, turn_into_plane
 from abrakit.fatigue.bond_law import BondParameters, plastic_return
 from abrakit.fatigue.paris import cycle_update
@@ -77,20 +77,13 @@ class FatigueBonds:
 
     def update(self, x, v, w, radius, dt):
         """One incremental step; returns ``(new_bonds, force_on_j, torque_on_i, torque_on_j, contact_point)``."""
-        p, i, j = self.params, self.i, self.j
-        take = lambda a, idx: np.take(a.T, idx, axis=1)
-        d = take(x, j) - take(x, i)
-        n = d / np.sqrt(dot(d, d))
-        overlap = radius[i] + radius[j] - np.sqrt(dot(d, d))
-        arm_i, arm_j = radius[i] - 0.5 * overlap, radius[j] - 0.5 * overlap
-        v_rel = take(v, j) - take(v, i) - cross(arm_i * take(w, i) + arm_j * take(w, j), n)
-        vn = dot(v_rel, n)
+        n, arm_i, arm_j, v_rel, vn, point = bond_kinematics(self.i, self.j, x, v, w, radius)
         start_n, start_s = self.elastic_n, turn_into_plane(self.elastic_s, n)
         trial_n = start_n + vn * dt
         trial_s = start_s + (v_rel - vn * n) * dt
         size_s = np.sqrt(dot(trial_s, trial_s))
         du_n, du_s, damage, sigma_n, sigma_s = plastic_return(
-            trial_n, size_s, self.damage, p, start=(start_n, np.sqrt(dot(start_s, start_s))),
+            trial_n, size_s, self.damage, self.params, start=(start_n, np.sqrt(dot(start_s, start_s))),
             stiffness=(self.kn, self.ks))
         shrink = np.divide(size_s - du_s, size_s, out=np.ones_like(size_s), where=size_s > 0)
         elastic_s = trial_s * shrink
@@ -102,7 +95,7 @@ class FatigueBonds:
                       yielded=self.yielded | plastic)
         force = -self.area * (sigma_n * n + self.ks * (1.0 - damage) * elastic_s)
         lever = cross(n, force)
-        return new, force, -arm_i * lever, -arm_j * lever, take(x, i) + arm_i * n
+        return new, force, -arm_i * lever, -arm_j * lever, point
 
     def onset_of_unloading(self, *, jump: float | None = None, max_cycles=None, hold_while_yielding=False) -> int:
         """The fatigue update of one load cycle at the onset of its unloading (Sec. 3.2, Fig. 5), in place.

@@ -97,6 +97,14 @@ def _scatter(out, index, values, sign=1.0):
         out[:, k] += sign * np.bincount(index, values[k], n)
 
 
+def _scatter_bond_loads(force, torque, i, j, force_on_j, torque_on_i, torque_on_j) -> None:
+    """Add a bond's force (on j, its reaction on i) and torques to the particle sums."""
+    _scatter(force, j, force_on_j)
+    _scatter(force, i, force_on_j, -1.0)
+    _scatter(torque, i, torque_on_i)
+    _scatter(torque, j, torque_on_j)
+
+
 class Simulation:
     """A DEM run: particles, a contact law, walls, bonds, clumps and the time step.
 
@@ -425,10 +433,7 @@ class Simulation:
             return 0.0
         p = self.particles
         new, f, t_i, t_j, tension, shear, point = parallel_bond_update(b, p.x, p.v, p.w, p.radius, self.dt)
-        _scatter(force, new.j, f)
-        _scatter(force, new.i, f, -1.0)
-        _scatter(torque, new.i, t_i)
-        _scatter(torque, new.j, t_j)
+        _scatter_bond_loads(force, torque, new.i, new.j, f, t_i, t_j)
         broken = tension | shear
         if broken.any():
             for mode, mask in (("tension", tension), ("shear", shear)):
@@ -443,10 +448,7 @@ class Simulation:
             return 0.0
         p = self.particles
         new, f, t_i, t_j, point = b.update(p.x, p.v, p.w, p.radius, self.dt)
-        _scatter(force, new.j, f)
-        _scatter(force, new.i, f, -1.0)
-        _scatter(torque, new.i, t_i)
-        _scatter(torque, new.j, t_j)
+        _scatter_bond_loads(force, torque, new.i, new.j, f, t_i, t_j)
         broken = new.damage >= BROKEN
         if broken.any():
             tension = broken & (new.plastic[0] + new.fatigue[0] >= new.plastic[1] + new.fatigue[1])
@@ -698,15 +700,11 @@ class Simulation:
             for h in ContactSet.HISTORY:
                 getattr(fresh, h)[:] = getattr(c, h)[..., ok]
             setattr(self, name, fresh)
-        b = self.parallel_bonds
-        ok = (new_index[b.i] >= 0) & (new_index[b.j] >= 0)
-        b = b.take(ok)
-        b.i, b.j = new_index[b.i], new_index[b.j]
-        self.parallel_bonds = b
-        f = self.fatigue_bonds
-        f = f.take((new_index[f.i] >= 0) & (new_index[f.j] >= 0))
-        f.i, f.j = new_index[f.i], new_index[f.j]
-        self.fatigue_bonds = f
+        for name in ("parallel_bonds", "fatigue_bonds"):
+            b = getattr(self, name)
+            b = b.take((new_index[b.i] >= 0) & (new_index[b.j] >= 0))
+            b.i, b.j = new_index[b.i], new_index[b.j]
+            setattr(self, name, b)
         if self.applied_force is not None:
             self.applied_force = self.applied_force[keep]
         self.particle_force = self.particle_force[keep]
