@@ -19,7 +19,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from abrakit.fatigue.bond_law import BondParameters, bond_stresses, criterion, plastic_return
+from abrakit.fatigue.bond_law import BondParameters, criterion, plastic_return
 from abrakit.fatigue.paris import cycle_update
 from abrakit.validation import check_option, check_positive, check_range
 
@@ -48,7 +48,6 @@ class BondTest:
     cycles: list = field(default_factory=list)
     cycle_damage: list = field(default_factory=list)
     cycle_fatigue: list = field(default_factory=list)
-    simulated_cycles: int = 0
 
     def __post_init__(self):
         check_option("mode", self.mode, MODES)
@@ -63,11 +62,10 @@ class BondTest:
     def stiffness(self) -> float:
         return self.p.kn if self.mode == "tension" else self.p.ks
 
-    def stresses(self):
-        """(σ_n, σ_s) of the current state (Eq. 15, 16); in pure shear σ_n = 0 by construction."""
-        elastic = self.u - self.up - self.uf
-        sigma_n, sigma_s = bond_stresses(elastic[0], elastic[1], self.damage, self.p)
-        return (float(sigma_n), float(sigma_s)) if self.mode == "tension" else (0.0, float(sigma_s))
+    @property
+    def simulated_cycles(self) -> int:
+        """Cycles actually simulated (each one stands for a whole jump when the cycle jump is on)."""
+        return len(self.cycles)
 
     def _record(self, stress):
         self.displacement.append(float(self.u[self.axis]))
@@ -114,17 +112,10 @@ class BondTest:
             self.damage += float(increment)
             self._set_stress(stress_max)
         self._set_stress(stress_min)
-        self.simulated_cycles += 1
         self.cycles.append((self.cycles[-1] if self.cycles else 0) + n)
         self.cycle_damage.append(self.damage)
         self.cycle_fatigue.append(float(self.uf[self.axis]))
         return True
-
-    def as_dict(self) -> dict:
-        return {"mode": self.mode, "displacement": np.array(self.displacement), "stress": np.array(self.stress),
-                "cycles": np.array(self.cycles, int), "damage": np.array(self.cycle_damage),
-                "fatigue_displacement": np.array(self.cycle_fatigue), "simulated_cycles": self.simulated_cycles,
-                "final_damage": self.damage}
 
 
 def monotonic_test(p: BondParameters, mode: str, *, increment=2e-7, until_damage=1.0 - 1e-6, max_steps=100_000,
