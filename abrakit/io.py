@@ -1,6 +1,7 @@
 """Result files written as a run goes, so an interrupted run loses nothing already computed.
 
-- :class:`CurveWriter` appends one CSV row per step and flushes it at once.
+- :class:`CurveWriter` appends one CSV row per step and flushes it at once; :class:`RunRecord` keeps a run's columns
+  in memory and writes them through one.
 - :func:`write_json` writes atomically (temporary file, then rename); :func:`save_state`/:func:`load_state` pickle a
   run's state the same way, for resuming.
 - :func:`progress_bar` is the one tqdm bar every long run shows.
@@ -43,7 +44,7 @@ def progress_bar(iterable=None, **kwargs):
     return tqdm(iterable, **kwargs)
 
 
-def _write_atomically(path, payload: bytes) -> Path:
+def write_atomically(path, payload: bytes) -> Path:
     """Write ``payload`` into a temporary file of a unique name beside ``path``, then rename it over ``path``: two
     processes writing the same file never mix their bytes (the last rename wins), a reader sees one whole version,
     and an interruption leaves the previous file intact."""
@@ -58,14 +59,14 @@ def _write_atomically(path, payload: bytes) -> Path:
 
 
 def write_json(path, data) -> Path:
-    """Write ``data`` (dicts, lists, numpy values) as indented JSON, atomically (:func:`_write_atomically`)."""
-    return _write_atomically(path, json.dumps(jsonable(data), indent=2).encode())
+    """Write ``data`` (dicts, lists, numpy values) as indented JSON, atomically (:func:`write_atomically`)."""
+    return write_atomically(path, json.dumps(jsonable(data), indent=2).encode())
 
 
 def save_state(path, state) -> Path:
     """Pickle a run's state (a simulation snapshot and its records) atomically, to resume it with
     :func:`load_state`. Only for files this toolkit wrote: unpickling runs code."""
-    return _write_atomically(path, pickle.dumps(state, protocol=pickle.HIGHEST_PROTOCOL))
+    return write_atomically(path, pickle.dumps(state, protocol=pickle.HIGHEST_PROTOCOL))
 
 
 def load_state(path):
@@ -112,6 +113,36 @@ class CurveWriter:
 
     def __exit__(self, *exc):
         self.close()
+
+
+class RunRecord:
+    """Named columns of a run kept in memory and, with ``csv``, written row by row as they come (a
+    :class:`CurveWriter`). ``rows`` (column -> list, e.g. from a checkpoint) are taken over and written first."""
+
+    def __init__(self, columns, csv=None, rows=None):
+        self.columns = tuple(columns)
+        self.data = {c: [] for c in self.columns}
+        self._writer = None if csv is None else CurveWriter(csv, self.columns)
+        for values in zip(*(rows[c] for c in self.columns), strict=True) if rows else ():
+            self.add(**dict(zip(self.columns, values, strict=True)))
+
+    def add(self, **row) -> None:
+        if set(row) != set(self.columns):
+            raise ValueError(f"a row must have the columns {list(self.columns)}, got {sorted(row)}")
+        for c in self.columns:
+            self.data[c].append(row[c])
+        if self._writer is not None:
+            self._writer.write(**row)
+
+    def __len__(self) -> int:
+        return len(self.data[self.columns[0]])
+
+    def close(self) -> None:
+        if self._writer is not None:
+            self._writer.close()
+
+    def arrays(self) -> dict[str, np.ndarray]:
+        return {c: np.array(v) for c, v in self.data.items()}
 
 
 def read_curve(path) -> dict[str, np.ndarray]:

@@ -92,3 +92,15 @@ def test_two_processes_writing_one_json_file_leave_it_whole(tmp_path):
         w.join()
         assert w.exitcode == 0
     assert read_json(path)["k"] == 59 and not list(tmp_path.glob("*.tmp"))
+
+
+def test_run_record_keeps_columns_writes_them_and_takes_over_saved_rows(tmp_path):
+    from abrakit.io import RunRecord, read_curve
+
+    record = RunRecord(("n", "d"), tmp_path / "run.csv", rows={"n": [1, 2], "d": [0.1, 0.2]})
+    record.add(n=3, d=0.3)
+    with pytest.raises(ValueError, match="columns"):
+        record.add(n=4)
+    record.close()
+    assert len(record) == 3 and record.arrays()["d"].tolist() == [0.1, 0.2, 0.3]
+    assert read_curve(tmp_path / "run.csv")["n"].tolist() == [1.0, 2.0, 3.0]

@@ -20,7 +20,7 @@ from abrakit.dem.fatigue_bonds import install_fatigue_bonds
 from abrakit.dem.simulation import Simulation
 from abrakit.dem.state import Particles
 from abrakit.fatigue.bond_law import BondParameters
-from abrakit.io import CurveWriter
+from abrakit.io import RunRecord
 from abrakit.validation import check_positive, check_range
 
 __all__ = ["bonded_bar", "cyclic_bar", "history_deviation"]
@@ -68,9 +68,7 @@ def cyclic_bar(sim: Simulation, loaded, stress_min: float, stress_max: float, *,
     p = sim.particles
     area = 2.0 * p.radius[loaded]
     start_x = p.x[loaded, 0].mean()
-    columns = ("cycles", "max_damage", "mean_damage", "extension")
-    writer = None if csv is None else CurveWriter(csv, columns)
-    record = {name: [] for name in columns}
+    record = RunRecord(("cycles", "max_damage", "mean_damage", "extension"), csv)
     clock, steps, cycles, stopped = time.perf_counter(), 0, 0, "target"
 
     def ramp(a, b):
@@ -88,11 +86,8 @@ def cyclic_bar(sim: Simulation, loaded, stress_min: float, stress_max: float, *,
         cycles += sim.fatigue_bonds.onset_of_unloading(jump=jump, max_cycles=max_cycles - cycles)
         ramp(stress_max, stress_min)
         d = sim.fatigue_bonds.damage
-        row = (cycles, float(d.max()) if len(d) else 1.0, float(d.mean()) if len(d) else 1.0, extension)
-        for name, value in zip(columns, row, strict=True):
-            record[name].append(value)
-        if writer is not None:
-            writer.write(**dict(zip(columns, row, strict=True)))
+        record.add(cycles=cycles, max_damage=float(d.max()) if len(d) else 1.0,
+                   mean_damage=float(d.mean()) if len(d) else 1.0, extension=extension)
         if len(sim.cracks):
             stopped = "bond broken"
             break
@@ -102,10 +97,9 @@ def cyclic_bar(sim: Simulation, loaded, stress_min: float, stress_max: float, *,
         if time_limit is not None and time.perf_counter() - clock > time_limit:
             stopped = "time_limit"
             break
-    if writer is not None:
-        writer.close()
-    result = {name: np.array(v) for name, v in record.items()}
-    result.update(simulated_cycles=len(record["cycles"]), steps=steps, seconds=time.perf_counter() - clock,
+    record.close()
+    result = record.arrays()
+    result.update(simulated_cycles=len(record), steps=steps, seconds=time.perf_counter() - clock,
                   stopped=stopped)
     return result
 

@@ -28,13 +28,12 @@ import time
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.spatial import cKDTree
 
 from abrakit.dem.fatigue_bonds import install_fatigue_bonds
 from abrakit.dem.simulation import Simulation
 from abrakit.dem.state import Particles
 from abrakit.fatigue.bond_law import BondParameters
-from abrakit.io import CurveWriter, VtuSeries, load_state, save_state
+from abrakit.io import RunRecord, VtuSeries, load_state, save_state
 from abrakit.validation import check_option, check_positive, check_range
 
 __all__ = ["Beam", "BeamSpec", "beam_theory_deflection", "cyclic_bending", "flexural", "four_point_beam",
@@ -143,12 +142,8 @@ def _bonded_lattice(spec: BeamSpec, params, modulus, stiffness_ratio, local_damp
                                 friction=0.0)
     sim = Simulation(particles, planar=True, local_damping=local_damping, safety=safety, skin=0.5 * spec.radius,
                      track_energy=False)
-    gap = 2.0 * spec.dispersion * spec.radius + 1e-9 * spec.radius
-    pairs = np.array(sorted(cKDTree(xy).query_pairs(2 * spec.radius + 1e-9 * spec.radius)), np.int64).reshape(-1, 2)
-    distance = np.linalg.norm(xy[pairs[:, 1]] - xy[pairs[:, 0]], axis=1)
-    pairs = pairs[distance - radii[pairs[:, 0]] - radii[pairs[:, 1]] <= gap]
-    install_fatigue_bonds(sim, params, thickness=spec.width, pairs=pairs, gap=gap, modulus=modulus,
-                          stiffness_ratio=stiffness_ratio)
+    install_fatigue_bonds(sim, params, thickness=spec.width, gap=2.0 * spec.dispersion * spec.radius * (1 + 1e-9),
+                          modulus=modulus, stiffness_ratio=stiffness_ratio)
     return sim
 
 
@@ -213,9 +208,7 @@ def monotonic_bending(beam: Beam, *, speed: float = 5e-4, max_deflection: float 
     if beam.control != "displacement":
         raise ValueError("monotonic_bending needs a beam built with control='displacement'")
     beam.speed = speed
-    columns = ("load", "deflection", "stress", "strain", "broken")
-    writer = None if csv is None else CurveWriter(csv, columns)
-    record = {k: [] for k in columns}
+    record = RunRecord(("load", "deflection", "stress", "strain", "broken"), csv)
     clock, peak, steps = time.perf_counter(), 0.0, 0
     while steps < max_steps:
         load = 0.0
@@ -225,18 +218,13 @@ def monotonic_bending(beam: Beam, *, speed: float = 5e-4, max_deflection: float 
         steps += record_every
         d = beam.deflection()
         f = flexural(load, d, beam.spec)
-        row = {"load": load, "deflection": d, "stress": float(f["stress"]), "strain": float(f["strain"]),
-               "broken": len(sim.cracks)}
-        for k, v in row.items():
-            record[k].append(v)
-        if writer is not None:
-            writer.write(**row)
+        record.add(load=load, deflection=d, stress=float(f["stress"]), strain=float(f["strain"]),
+                   broken=len(sim.cracks))
         peak = max(peak, load)
         if (peak > 0 and load < drop * peak) or (max_deflection is not None and d >= max_deflection):
             break
-    if writer is not None:
-        writer.close()
-    out = {k: np.array(v) for k, v in record.items()}
+    record.close()
+    out = record.arrays()
     out.update(FS_max=float(out["stress"].max(initial=0.0)), steps=steps, seconds=time.perf_counter() - clock)
     return out
 
@@ -280,17 +268,13 @@ def cyclic_bending(beam: Beam, load_max: float, *, load_min_ratio: float = 0.0, 
         raise ValueError("cyclic_bending needs a beam built with control='force'")
     columns = ("cycles", "modulus", "deflection", "residual", "damaged", "yielding", "broken")
     saved = None if checkpoint is None else load_state(checkpoint)
-    record = {k: [] for k in columns} if saved is None else saved["record"]
-    cycles = 0 if saved is None else saved["cycles"]
     if saved is not None:
         sim.restore(saved["sim"])
-    writer = None if csv is None else CurveWriter(csv, columns)
-    if writer is not None:
-        for row in zip(*record.values(), strict=True):
-            writer.write(**dict(zip(columns, row, strict=True)))
+    record = RunRecord(columns, csv, None if saved is None else saved["record"])
+    cycles = record.data["cycles"][-1] if len(record) else 0
     series = None if vtu is None else VtuSeries(vtu, "bonds")
     if series is not None:                 # a resumed run keeps the files it wrote before the interruption
-        series.entries = [(float(n), f"bonds_{k:05d}.vtu") for k, n in enumerate(record["cycles"])]
+        series.entries = [(float(n), f"bonds_{k:05d}.vtu") for k, n in enumerate(record.data["cycles"])]
     clock, life, stopped, simulated = time.perf_counter(), None, "max_cycles", 0
     phase = np.arange(1, steps_per_cycle + 1) / steps_per_cycle
     profile = load_min_ratio + (1.0 - load_min_ratio) * 0.5 * (1.0 - np.cos(2.0 * np.pi * phase))
@@ -307,20 +291,17 @@ def cyclic_bending(beam: Beam, load_max: float, *, load_min_ratio: float = 0.0, 
                 cycles += sim.fatigue_bonds.onset_of_unloading(jump=jump, max_cycles=max_cycles - cycles)
         modulus = float(flexural(load_max, d_peak, beam.spec)["modulus"])
         b = sim.fatigue_bonds
-        row = {"cycles": cycles, "modulus": modulus, "deflection": d_peak, "residual": beam.deflection(),
-               "damaged": int(np.sum(b.damage > 2 * b.params.initial_damage)), "yielding": yielding,
-               "broken": len(sim.cracks)}
-        for key, v in row.items():
-            record[key].append(v)
-        if writer is not None:
-            writer.write(**row)
+        record.add(cycles=cycles, modulus=modulus, deflection=d_peak, residual=beam.deflection(),
+                   damaged=int(np.sum(b.damage > 2 * b.params.initial_damage)), yielding=yielding,
+                   broken=len(sim.cracks))
         if series is not None:
             _write_bonds(series, cycles, sim)
         if checkpoint is not None:
-            save_state(checkpoint, {"sim": sim.snapshot(), "record": record, "cycles": cycles})
+            save_state(checkpoint, {"sim": sim.snapshot(), "record": record.data})
         simulated += 1
-        early = [m for m, n in zip(record["modulus"], record["cycles"], strict=True) if n <= reference_cycles]
-        reference = float(np.mean(early or record["modulus"][:1]))
+        history = record.data
+        early = [m for m, n in zip(history["modulus"], history["cycles"], strict=True) if n <= reference_cycles]
+        reference = float(np.mean(early or history["modulus"][:1]))
         if modulus <= life_ratio * reference:
             life, stopped = cycles, "life"
             break
@@ -336,10 +317,9 @@ def cyclic_bending(beam: Beam, load_max: float, *, load_min_ratio: float = 0.0, 
         if max_simulated is not None and simulated >= max_simulated:
             stopped = "max_simulated"
             break
-    if writer is not None:
-        writer.close()
-    out = {k: np.array(v) for k, v in record.items()}
-    out.update(life=life, stopped=stopped, simulated_cycles=len(record["cycles"]), seconds=time.perf_counter() - clock)
+    record.close()
+    out = record.arrays()
+    out.update(life=life, stopped=stopped, simulated_cycles=len(record), seconds=time.perf_counter() - clock)
     return out
 
 
