@@ -6,12 +6,13 @@ stress tensor components (MPa), the von Mises stress and every scalar or vector 
 
 from __future__ import annotations
 
+import io
 from pathlib import Path
 
 import numpy as np
 
 from .. import tensors as T
-from ..io import CurveWriter, VtuSeries
+from ..io import CurveWriter, VtuSeries, write_atomically
 
 SQRT2 = np.sqrt(2.0)
 _MESHIO_TYPE = {"MeshQuad1": "quad", "MeshTri1": "triangle", "MeshHex1": "hexahedron", "MeshTet1": "tetra"}
@@ -61,14 +62,12 @@ def cell_fields(stress: np.ndarray, state: dict) -> dict:
 
 
 def save_checkpoint(path, u, state, load_factor: float, time: float) -> Path:
-    """Write the last converged state so a run can be inspected or restarted (:func:`load_checkpoint`)."""
-    path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
+    """Write the last converged state so a run can be inspected or restarted (:func:`load_checkpoint`); atomically,
+    so an interruption leaves the previous checkpoint whole."""
     arrays = {f"state__{k}": np.asarray(v) for k, v in state.items()}
-    tmp = path.with_name(path.name + ".tmp.npz")
-    np.savez(tmp, u=u, load_factor=load_factor, time=time, **arrays)
-    tmp.replace(path)
-    return path
+    buffer = io.BytesIO()
+    np.savez(buffer, u=u, load_factor=load_factor, time=time, **arrays)
+    return write_atomically(path, buffer.getvalue())
 
 
 def load_checkpoint(path) -> dict:
