@@ -9,6 +9,7 @@ from abrakit.fatigue import (
     bond_stresses,
     criterion,
     cycle_jump,
+    cycle_update,
     cyclic_test,
     damage_after,
     fatigue_displacements,
@@ -223,6 +224,36 @@ def test_cycle_jump_takes_the_largest_increment_and_at_least_one_cycle():
     assert cycle_jump([0.1], [0.004], 0.01, exponent=1.0)[0] == 2          # 2.5 rounds to even, 2
     assert cycle_jump([0.1], [0.0035], 0.01, exponent=1.0)[0] == 3         # 2.86 rounds to 3
     assert cycle_jump([0.1], [1e-4], 0.01, exponent=1.0, max_cycles=7)[0] == 7
+
+
+def test_ratcheting_in_the_jump_repeats_the_sampled_plastic_increment_and_bounds_the_jump():
+    """Decision "ratcheting in the cycle jump": bond 0 is fatigued below yield, bond 1 yielded and ratcheted by
+    Δuᵖ in the sampled cycle. Without ``ratchet`` (the paper) bond 1 stands still; with it, N_jump bounds either
+    damage rate by ΔD_jump, and bond 1 gains Eq. (22)'s damage for (N − 1) Δuᵖ on top of the sampled cycle."""
+    damage = np.array([0.1, 0.1])
+    peak, low = (np.array([80e3, 80e3]), np.zeros(2)), (np.zeros(2), np.zeros(2))
+    eligible = np.array([True, False])
+    paper = cycle_update(damage, peak, low, P, eligible=eligible, jump=0.01)
+    unchanged = cycle_update(damage, peak, low, P, eligible=eligible, jump=0.01, ratchet=np.zeros((2, 2)))
+    for a, b in zip(paper, unchanged, strict=True):
+        assert np.array_equal(a, b)
+    assert paper[1][1] == 0.0 and np.all(paper[4] == 0.0)
+    ratchet = np.array([[0.0, 4e-8], [0.0, 2e-8]])                  # |Δuᵖ| normal, shear of the sampled cycle
+    rate = damage_after(0.1, 4e-8, 2e-8, P) - 0.1                  # plastic damage per cycle of bond 1
+    fatigue_rate = cycle_update(damage, peak, low, P, eligible=eligible)[1][0]
+    assert rate > fatigue_rate > 0.0
+    n, increment, du_n, du_s, skipped = cycle_update(damage, peak, low, P, eligible=eligible, jump=0.01,
+                                                     ratchet=ratchet)
+    assert n == round(0.01 / rate) > 1
+    assert np.allclose(skipped, (n - 1) * ratchet, rtol=0, atol=1e-30)
+    assert damage[1] + increment[1] == pytest.approx(damage_after(0.1, (n - 1) * 4e-8, (n - 1) * 2e-8, P), rel=1e-12)
+    assert increment[1] == pytest.approx((n - 1) * rate, rel=1e-2)          # ≈ linear for a small jump
+    assert du_n[1] == du_s[1] == 0.0                                        # no fatigue displacement: it yielded
+    # the fatigued bond follows Eq. (41) over the same N
+    assert increment[0] == pytest.approx(cycle_jump(damage, [fatigue_rate, 0.0], 0.01, max_cycles=n,
+                                                    exponent=P.paris_exponent)[1][0], rel=1e-12)
+    with pytest.raises(ValueError, match="ratchet"):
+        cycle_update(damage, peak, low, P, jump=0.01, ratchet=np.zeros(2))
 
 
 def test_no_fatigue_damage_below_the_threshold():

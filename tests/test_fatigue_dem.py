@@ -8,7 +8,7 @@ from abrakit.dem.fatigue_bonds import install_fatigue_bonds
 from abrakit.dem.fatigue_specimen import bonded_bar, cyclic_bar, history_deviation
 from abrakit.dem.periodic import Periodic
 from abrakit.dem.state import Particles
-from abrakit.fatigue import BondParameters, bond_stresses, fatigue_displacements, monotonic_test, paris_increment
+from abrakit.fatigue import BondParameters, bond_stresses, damage_after, fatigue_displacements, monotonic_test, paris_increment
 
 P = BondParameters()
 R = 0.05                      # Ø 0.1 m particles: the bond width 2R is the paper's 0.1 m contact
@@ -93,6 +93,37 @@ def test_the_jump_proceeds_past_a_yielding_bond_unless_held():
         counts[hold] = b.onset_of_unloading(jump=0.01, hold_while_yielding=hold)
         assert b.damage[1] == P.initial_damage and b.damage[0] > P.initial_damage
     assert counts[True] == 1 < counts[False]
+
+
+def test_bonds_record_their_plastic_flow_per_cycle_and_extrapolate_it_on_request():
+    """``ratchet`` sums |Δuᵖ| since the last cycle update; "extrapolated" repeats it over the jump (Eq. 22's damage,
+    elastic opening lowered by the same displacement) while "frozen", the paper, leaves the yielded bond alone."""
+    results = {}
+    for plasticity in ("frozen", "extrapolated"):
+        p = Particles.disks([[0, 0], [2 * R, 0], [4 * R, 0]], R, 2650.0, fixed=True)
+        sim = Simulation(p, planar=True, dt=1e-5, skin=0.1 * R)
+        install_fatigue_bonds(sim, P)
+        sim.particles.v[2] = (2e-4, 0.0, 0.0)                   # the second bond is pulled slowly to yield
+        while not sim.fatigue_bonds.yielded[1]:
+            sim.step()
+        b = sim.fatigue_bonds
+        assert b.yielded[1] and b.plastic[0, 1] > 0
+        assert np.array_equal(b.ratchet, b.plastic)              # no cycle update yet: all flow is this cycle's
+        b.peak[:, 0], b.low[:, 0] = (80e3, 80e3), 0.0              # the first bond saw a fatigue cycle
+        d, e_n, flow = b.damage.copy(), b.elastic_n.copy(), b.ratchet.copy()
+        n = b.onset_of_unloading(jump=0.01, plasticity=plasticity)
+        results[plasticity] = n
+        if plasticity == "frozen":
+            assert b.damage[1] == d[1] and b.elastic_n[1] == e_n[1]
+        else:
+            assert b.damage[1] == pytest.approx(damage_after(d[1], (n - 1) * flow[0, 1], (n - 1) * flow[1, 1], P),
+                                                rel=1e-12)
+            assert b.elastic_n[1] == pytest.approx(e_n[1] - (n - 1) * flow[0, 1], rel=1e-12)
+            assert n > 1 and b.damage[1] > d[1]
+        assert np.all(b.ratchet == 0.0) and not b.yielded.any()
+    assert results["extrapolated"] <= results["frozen"]
+    with pytest.raises(ValueError, match="plasticity"):
+        sim.fatigue_bonds.onset_of_unloading(plasticity="ignored")
 
 
 def test_cycle_jump_on_a_bonded_specimen_keeps_the_largest_damage_close_and_saves_cycles():

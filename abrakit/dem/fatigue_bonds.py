@@ -26,7 +26,7 @@ from abrakit.dem.bonds import bond_kinematics, candidate_bond_pairs
 from abrakit.dem.contact_laws import cross, dot, turn_into_plane
 from abrakit.fatigue.bond_law import BondParameters, plastic_return
 from abrakit.fatigue.paris import cycle_update
-from abrakit.validation import check_positive
+from abrakit.validation import check_option, check_positive
 
 __all__ = ["FatigueBonds", "install_fatigue_bonds"]
 
@@ -52,6 +52,7 @@ class FatigueBonds:
     peak: np.ndarray             # (2, B) largest σ_n, σ_s since the last cycle update
     low: np.ndarray              # (2, B) smallest σ_n, σ_s since the last cycle update
     yielded: np.ndarray          # bool: yielded since the last cycle update (E = 0 in Eq. 17)
+    ratchet: np.ndarray          # (2, B) |Δuᵖ| normal, shear since the last cycle update [m]
     params: BondParameters
 
     @classmethod
@@ -59,7 +60,7 @@ class FatigueBonds:
         z = np.zeros(0)
         return cls(np.zeros(0, np.int64), np.zeros(0, np.int64), z, z, z, z, z, np.zeros((3, 0)), z, np.zeros((2, 0)),
                    np.zeros((2, 0)), np.zeros((2, 0)), np.zeros((2, 0)), np.zeros((2, 0)), np.zeros(0, bool),
-                   BondParameters() if params is None else params)
+                   np.zeros((2, 0)), BondParameters() if params is None else params)
 
     def __len__(self) -> int:
         return len(self.i)
@@ -88,48 +89,56 @@ class FatigueBonds:
         shrink = np.divide(size_s - du_s, size_s, out=np.ones_like(size_s), where=size_s > 0)
         elastic_s = trial_s * shrink
         sigma = np.array([sigma_n, sigma_s])
-        plastic = du_n + np.abs(du_s) > 0
+        flow = np.abs([du_n, du_s])
         new = replace(self, elastic_n=trial_n - du_n, elastic_s=elastic_s, damage=damage,
-                      plastic=self.plastic + np.abs([du_n, du_s]), sigma=sigma,
+                      plastic=self.plastic + flow, sigma=sigma,
                       peak=np.maximum(self.peak, sigma), low=np.minimum(self.low, sigma),
-                      yielded=self.yielded | plastic)
+                      yielded=self.yielded | (flow.sum(axis=0) > 0), ratchet=self.ratchet + flow)
         force = -self.area * (sigma_n * n + self.ks * (1.0 - damage) * elastic_s)
         lever = cross(n, force)
         return new, force, -arm_i * lever, -arm_j * lever, point
 
-    def onset_of_unloading(self, *, jump: float | None = None, max_cycles=None, hold_while_yielding=False) -> int:
+    def onset_of_unloading(self, *, jump: float | None = None, max_cycles=None, hold_while_yielding=False,
+                           plasticity: str = "frozen") -> int:
         """The fatigue update of one load cycle at the onset of its unloading (Sec. 3.2, Fig. 5), in place.
 
         Bonds that did not yield since the last call and whose peak stress exceeds the fatigue criterion (Eq. 23)
         gain ΔD_f by Paris' law (Eq. 27) with the ranges peak − low (mode I: tensile part only), and the fatigue
         displacements of Eqs. (35–37), which lower their stresses as Eqs. (38, 39) state. With ``jump`` = ΔD_jump
-        the increments are extrapolated over N_jump cycles (Eqs. 40, 41). A bond that yielded in the sampled cycle
-        gets neither fatigue nor further plastic damage during the jump, as in the paper; with
-        ``hold_while_yielding`` no jump follows a cycle in which any bond yielded (a steadier but, where bonds
-        ratchet every cycle, a jump-free run). Returns the number of cycles this update stands for (1 without a
-        jump); the stress record restarts from the current stresses."""
+        the increments are extrapolated over N_jump cycles (Eqs. 40, 41).
+
+        ``plasticity`` says what the jump does with bonds that yielded in the sampled cycle: "frozen" (the paper)
+        gives them neither fatigue nor plastic damage during the jump; "extrapolated" repeats their plastic
+        displacement increment of the sampled cycle in each skipped cycle (damage by Eq. 22, elastic displacements
+        lowered like the fatigue displacements) and counts its damage rate in N_jump (decision "ratcheting in the
+        cycle jump"). With ``hold_while_yielding`` no jump follows a cycle in which any bond yielded (a steadier but,
+        where bonds ratchet every cycle, a jump-free run). Returns the number of cycles this update stands for (1
+        without a jump); the stress record restarts from the current stresses."""
+        check_option("plasticity", plasticity, ("frozen", "extrapolated"))
         count = 1
         if len(self):
             if hold_while_yielding and self.yielded.any():
                 jump = None
-            count, increment, du_n, du_s = cycle_update(self.damage, self.peak, self.low, self.params,
-                                                        width=self.width, eligible=~self.yielded, jump=jump,
-                                                        max_cycles=max_cycles)
+            ratchet = self.ratchet if plasticity == "extrapolated" else None
+            count, increment, du_n, du_s, skipped = cycle_update(
+                self.damage, self.peak, self.low, self.params, width=self.width, eligible=~self.yielded, jump=jump,
+                max_cycles=max_cycles, ratchet=ratchet)
             du_s = np.abs(du_s)                             # along e_s: the shear stress here is a magnitude
             size_s = np.sqrt(dot(self.elastic_s, self.elastic_s))
-            self.elastic_n = self.elastic_n - du_n
-            self.elastic_s = self.elastic_s * np.divide(size_s - du_s, size_s, out=np.ones_like(size_s),
-                                                        where=size_s > 0)
+            self.elastic_n = self.elastic_n - du_n - skipped[0]
+            self.elastic_s = self.elastic_s * np.divide(np.maximum(size_s - du_s - skipped[1], 0.0), size_s,
+                                                        out=np.ones_like(size_s), where=size_s > 0)
             self.damage = np.minimum(self.damage + increment, 1.0)
             self.fatigue = self.fatigue + np.array([du_n, du_s])
-            self.peak, self.low = self.sigma.copy(), self.sigma.copy()
-            self.yielded = np.zeros(len(self), bool)
+            self.plastic = self.plastic + skipped
+            self.restart_cycle()
         return count
 
     def restart_cycle(self) -> None:
         """Forget the stress extremes and yield flags recorded so far (e.g. after a monotonic pre-load)."""
         self.peak, self.low = self.sigma.copy(), self.sigma.copy()
         self.yielded = np.zeros(len(self), bool)
+        self.ratchet = np.zeros((2, len(self)))
 
 
 def install_fatigue_bonds(sim, params: BondParameters, *, thickness=1.0, width_multiplier=1.0, gap=None,
@@ -159,7 +168,7 @@ def install_fatigue_bonds(sim, params: BondParameters, *, thickness=1.0, width_m
     z2 = np.zeros((2, b))
     new = FatigueBonds(i, j, width, width * thickness, kn, ks, np.zeros(b), np.zeros((3, b)),
                        np.full(b, params.initial_damage), z2, z2.copy(), z2.copy(), z2.copy(), z2.copy(),
-                       np.zeros(b, bool), params)
+                       np.zeros(b, bool), z2.copy(), params)
     old = sim.fatigue_bonds
     if len(old) and old.params != params:
         raise ValueError("all fatigue bonds of a simulation share one BondParameters")

@@ -23,7 +23,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from abrakit.fatigue.bond_law import BondParameters, criterion, flow_direction
+from abrakit.fatigue.bond_law import BondParameters, criterion, damage_after, flow_direction
 from abrakit.validation import check_positive, check_range
 
 __all__ = ["cycle_jump", "cycle_update", "fatigue_displacements", "geometric_factor", "paris_increment",
@@ -71,21 +71,23 @@ def fatigue_displacements(damage, increment, sigma_n, sigma_s, p: BondParameters
     return ratio_n * scale, np.sign(sigma_s) * ratio_s * scale
 
 
-def cycle_jump(damage, increment, jump: float, *, max_cycles=None, exponent=None):
+def cycle_jump(damage, increment, jump: float, *, max_cycles=None, exponent=None, other_rate: float = 0.0):
     """Cycle jump (Eqs. 40, 41): ``(n_jump, total_increment)`` for bonds whose first-cycle increments ΔD_f¹ are
     ``increment`` at damage ``damage``.
 
     N_jump = ΔD_jump / max ΔD_f¹ rounded to the nearest integer (at least 1, at most ``max_cycles``); rounding is
-    what reproduces the paper's cycle-jump counts (decision "cycle jump count"). Every bond's damage is advanced by
-    Eq. (41), ΔD_f^j = [Y(D_j) √D_j / (Y(D_1) √D_1)]ᵐ ΔD_f¹ for j = 1 … N_jump, with
-    D_j = D_1 + Σ_{i<j} ΔD_f^i, a bond at D → 1 being capped there. ``exponent`` is Paris' m.
+    what reproduces the paper's cycle-jump counts (decision "cycle jump count"). ``other_rate`` is the largest damage
+    per cycle from other mechanisms that the caller extrapolates over the same jump (plastic ratcheting): N_jump
+    then bounds the damage any bond gains from either. Every bond's damage is advanced by Eq. (41),
+    ΔD_f^j = [Y(D_j) √D_j / (Y(D_1) √D_1)]ᵐ ΔD_f¹ for j = 1 … N_jump, with D_j = D_1 + Σ_{i<j} ΔD_f^i, a bond at
+    D → 1 being capped there. ``exponent`` is Paris' m.
     """
     jump = check_positive("jump", jump)
     if exponent is None:
         raise TypeError("cycle_jump needs the Paris exponent (exponent=m)")
     damage = np.atleast_1d(np.asarray(damage, float))
     increment = np.atleast_1d(np.asarray(increment, float))
-    largest = float(np.max(increment)) if increment.size else 0.0
+    largest = max(float(np.max(increment)) if increment.size else 0.0, float(other_rate))
     if largest <= 0.0:
         return 1, increment.copy()
     n_jump = max(1, round(jump / largest))
@@ -101,23 +103,39 @@ def cycle_jump(damage, increment, jump: float, *, max_cycles=None, exponent=None
 
 
 def cycle_update(damage, peak, low, p: BondParameters, *, width=None, eligible=True, jump: float | None = None,
-                 max_cycles=None):
+                 max_cycles=None, ratchet=None):
     """The fatigue update of one load cycle at the onset of its unloading (Sec. 3.2, Fig. 5), for bonds whose cycle
     ran between the stresses ``low`` = (σ_n, σ_s) and ``peak`` = (σ_n, σ_s).
 
     A bond is fatigued if it is ``eligible`` (it did not yield in the cycle: E = 1 in Eq. 17) and its peak exceeds
     the fatigue criterion (Eq. 23); it gains ΔD_f by Paris' law (Eq. 27) with the ranges peak − low (mode I: tensile
     parts), extrapolated by the cycle jump if ``jump`` is given (Eqs. 40, 41), and the fatigue displacements of
-    Eqs. (35–37). Returns ``(cycles, increment, du_n, du_s)``, zero for the bonds that are not fatigued."""
+    Eqs. (35–37).
+
+    ``ratchet`` (2, …): the plastic displacement magnitudes (normal, shear) each bond gained in the sampled cycle.
+    With a jump of N cycles they are repeated in the N − 1 skipped cycles: those bonds gain the damage of Eq. (22)
+    for (N − 1) × ``ratchet`` on top of their fatigue damage, and N_jump counts that damage rate (decision
+    "ratcheting in the cycle jump"). Without ``ratchet`` (the paper) a yielding bond stands still during a jump.
+
+    Returns ``(cycles, increment, du_n, du_s, skipped)``: the cycles represented, the damage increments, the
+    fatigue displacements (zero for bonds that are not fatigued) and the plastic displacements (2, …) of the
+    skipped cycles (zero without ``ratchet``)."""
     (peak_n, peak_s), (low_n, low_s) = peak, low
     damage = np.asarray(damage, float)
     fatigued = np.asarray(eligible) & (criterion(peak_n, peak_s, damage, p, level=p.threshold) >= 0.0)
     range_n = tensile_part(peak_n) - tensile_part(low_n)
     increment = np.where(fatigued, paris_increment(damage, range_n, np.abs(np.subtract(peak_s, low_s)), p, width),
                          0.0)
+    ratchet = np.zeros((2,) + damage.shape) if ratchet is None else np.abs(np.asarray(ratchet, float))
+    if ratchet.shape != (2,) + damage.shape:
+        raise ValueError(f"ratchet must have shape {(2,) + damage.shape}, got {ratchet.shape}")
+    ratchet_rate = damage_after(damage, ratchet[0], ratchet[1], p) - damage
     cycles = 1
-    if jump is not None and np.any(fatigued):
-        cycles, increment = cycle_jump(damage, increment, jump, max_cycles=max_cycles, exponent=p.paris_exponent)
+    if jump is not None and (np.any(fatigued) or np.any(ratchet_rate > 0.0)):
+        cycles, increment = cycle_jump(damage, increment, jump, max_cycles=max_cycles, exponent=p.paris_exponent,
+                                       other_rate=float(np.max(ratchet_rate, initial=0.0)))
         increment = increment.reshape(np.shape(damage))
     du_n, du_s = fatigue_displacements(damage, increment, peak_n, peak_s, p)
-    return cycles, increment, np.where(fatigued, du_n, 0.0), np.where(fatigued, du_s, 0.0)
+    skipped = (cycles - 1) * ratchet
+    increment = damage_after(damage + increment, skipped[0], skipped[1], p) - damage
+    return cycles, increment, np.where(fatigued, du_n, 0.0), np.where(fatigued, du_s, 0.0), skipped

@@ -106,7 +106,7 @@ class BondTest:
         self._set_stress(stress_min)
         self._set_stress(stress_max)
         low = (stress_min, 0.0) if self.mode == "tension" else (0.0, stress_min)
-        n, increment, dn, ds = cycle_update(self.damage, peak, low, self.p, jump=jump, max_cycles=max_cycles)
+        n, increment, dn, ds, _ = cycle_update(self.damage, peak, low, self.p, jump=jump, max_cycles=max_cycles)
         if increment > 0.0:                                 # at the onset of unloading (Sec. 3.2)
             self.uf += (float(dn), float(ds))
             self.damage += float(increment)
