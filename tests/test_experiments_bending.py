@@ -125,3 +125,14 @@ def test_an_interrupted_cyclic_run_resumes_from_its_checkpoint_with_the_same_his
     last = meshio.read(sorted(vtu.glob("bonds_*.vtu"))[-1])
     damage = last.cell_data["damage"][0]
     assert len(damage) == len(last.cells_dict["line"]) and damage.max() > 0.02
+    beam = four_point_beam(COARSE, control="force")           # a finished run is read back, not continued
+    again = cyclic_bending(beam, 120.0, checkpoint=state, csv=csv, vtu=vtu, **kwargs)
+    assert again["stopped"] == "life" and again["life"] == full["life"]
+    assert np.array_equal(again["cycles"], full["cycles"]) and beam.sim.time == resumed_time(state)
+    assert (vtu / "bonds.pvd").read_text().count("<DataSet") == len(full["cycles"])
+
+
+def resumed_time(state):
+    from abrakit.io import load_state
+
+    return load_state(state)["sim"]["time"]

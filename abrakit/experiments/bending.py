@@ -16,22 +16,34 @@ The flexural stress, strain and modulus follow from the load P and the mid-span 
 which is Euler–Bernoulli beam theory for third-point loading. δ is the sinking of the bottom at mid-span relative
 to the supports.
 
-Particles: a hexagonal lattice of mean radius r̄ whose radii are drawn in [(1 − s) r̄, r̄] (``dispersion`` s), so that
-no two overlap and every lattice neighbour lies within the bonding gap 2 s r̄. The paper's sample is poly-disperse
-(radii 1–19 mm after the aggregate grading); this lattice is the fast, reproducible stand-in, and ``radius``
-sets the resolution.
+Particles (``grading``):
+
+- "lattice": a hexagonal lattice of spacing 2 r̄ whose radii are drawn in [(1 − s) r̄, r̄] (``dispersion`` s), so that
+  no two overlap and every lattice neighbour lies within the bonding gap 2 s r̄: the fast, reproducible stand-in.
+- "fuller": a poly-disperse packing after Fuller's aggregate grading between r̄/``radius_ratio`` and r̄
+  (:mod:`abrakit.experiments.disk_packing`), settled in a box at 1 kPa and bonded where the gap is at most a tenth
+  of the smallest radius; disks left without a bond are removed. The paper's sample is poly-disperse (radii 1–19 mm
+  after its aggregate grading, whose curve, Fig. 13, is lost in the extraction). The packing is cached like the
+  compression specimens (:func:`abrakit.experiments.specimen.cache_dir`).
+
+In both, ``radius`` r̄ is the largest radius and sets the resolution.
 """
 
 from __future__ import annotations
 
+import hashlib
+import json
 import time
-from dataclasses import dataclass
+from dataclasses import asdict, dataclass
 
 import numpy as np
 
 from abrakit.dem.fatigue_bonds import install_fatigue_bonds
+from abrakit.dem.measure import relax
 from abrakit.dem.simulation import Simulation
 from abrakit.dem.state import Particles
+from abrakit.experiments.disk_packing import disk_packing, fuller_radii
+from abrakit.experiments.specimen import cache_dir
 from abrakit.fatigue.bond_law import BondParameters
 from abrakit.io import RunRecord, VtuSeries, load_state, save_state
 from abrakit.validation import check_option, check_positive, check_range
@@ -64,11 +76,16 @@ class BeamSpec:
     dispersion: float = 0.2
     density: float = 2400.0
     seed: int = 0
+    grading: str = "lattice"
+    radius_ratio: float = 3.0
 
     def __post_init__(self):
         for name in ("length", "height", "width", "span", "roller_spacing", "radius", "density"):
             check_positive(name, getattr(self, name))
         check_range("dispersion", self.dispersion, 0.0, 0.5, high_open=True)
+        check_option("grading", self.grading, ("lattice", "fuller"))
+        if not self.radius_ratio > 1.0:
+            raise ValueError(f"radius_ratio must exceed 1, got {self.radius_ratio}")
         if not self.roller_spacing < self.span < self.length:
             raise ValueError(f"need roller_spacing < span < length, got {self.roller_spacing}, {self.span}, "
                              f"{self.length}")
@@ -122,7 +139,9 @@ class Beam:
                 p.x[self.loading, 1] = self._y0[self.loading] - self._travel
 
 
-def _lattice(spec: BeamSpec, rng):
+def _lattice(spec: BeamSpec):
+    """Centres, radii and bonding gap of the "lattice" grading."""
+    rng = np.random.default_rng(spec.seed)
     r = spec.radius
     dy = np.sqrt(3.0) * r
     rows = int(np.floor((spec.height - 2 * r) / dy)) + 1
@@ -132,18 +151,51 @@ def _lattice(spec: BeamSpec, rng):
     keep = x <= spec.length - r + 1e-12
     xy = np.column_stack([x[keep], (r + dy * row)[keep]])
     radii = r * (1.0 - spec.dispersion * rng.random(len(xy)))
-    return xy, radii
+    return xy, radii, 2.0 * spec.dispersion * r * (1 + 1e-9)
 
 
-def _bonded_lattice(spec: BeamSpec, params, modulus, stiffness_ratio, local_damping=0.7, safety=0.8) -> Simulation:
-    """The lattice of :class:`BeamSpec` as a planar simulation, every lattice neighbour (gap ≤ 2 s r̄) bonded."""
-    xy, radii = _lattice(spec, np.random.default_rng(spec.seed))
+SETTLING_STRESS = 1e3   # confining stress at which the "fuller" packing is bonded [Pa]
+FILL = 0.85             # solid fraction whose disks the grading draws (the packing then settles near 0.82)
+
+
+def _fuller(spec: BeamSpec, modulus: float):
+    """Centres, radii and bonding gap of the "fuller" grading."""
+    rng = np.random.default_rng(spec.seed)
+    radii = fuller_radii(rng, spec.radius / spec.radius_ratio, spec.radius, FILL * spec.length * spec.height)
+    packing = disk_packing((spec.length, spec.height), radii, rng, modulus=modulus, thickness=spec.width,
+                           stress=SETTLING_STRESS, density=spec.density)
+    return packing["xy"], packing["radius"], 0.1 * float(packing["radius"].min())
+
+
+def _bonded_sample(spec: BeamSpec, params, modulus, stiffness_ratio, local_damping=0.7, safety=0.8) -> Simulation:
+    """The particles of :class:`BeamSpec` as a planar simulation, every pair within the bonding gap bonded. A
+    "fuller" sample is relaxed after bonding (its packing's contacts still press) and cached: genesis and
+    relaxation take about a minute."""
+    path = None
+    if spec.grading == "fuller":
+        key = json.dumps({"v": 1, "spec": asdict(spec), "params": asdict(params), "modulus": modulus,
+                          "stiffness_ratio": stiffness_ratio, "local_damping": local_damping, "safety": safety},
+                         sort_keys=True)
+        path = cache_dir() / f"beam_{hashlib.sha1(key.encode()).hexdigest()[:16]}.pkl"
+        cached = load_state(path)
+        if cached is not None:
+            return cached
+    xy, radii, gap = _lattice(spec) if spec.grading == "lattice" else _fuller(spec, modulus)
     particles = Particles.disks(xy, radii, spec.density, thickness=spec.width, kn=modulus * spec.width,
                                 friction=0.0)
     sim = Simulation(particles, planar=True, local_damping=local_damping, safety=safety, skin=0.5 * spec.radius,
                      track_energy=False)
-    install_fatigue_bonds(sim, params, thickness=spec.width, gap=2.0 * spec.dispersion * spec.radius * (1 + 1e-9),
-                          modulus=modulus, stiffness_ratio=stiffness_ratio)
+    install_fatigue_bonds(sim, params, thickness=spec.width, gap=gap, modulus=modulus,
+                          stiffness_ratio=stiffness_ratio)
+    b = sim.fatigue_bonds
+    lonely = np.bincount(np.concatenate([b.i, b.j]), minlength=len(particles)) == 0
+    if lonely.any():
+        sim.remove_particles(lonely)
+    if path is not None:
+        relax(sim, tolerance=1e-4, min_steps=1000, max_steps=50_000)
+        sim.fatigue_bonds.restart_cycle()
+        path.parent.mkdir(parents=True, exist_ok=True)
+        save_state(path, sim)
     return sim
 
 
@@ -159,11 +211,10 @@ def four_point_beam(spec: BeamSpec | None = None, params: BondParameters | None 
     params = table_two() if params is None else params
     check_option("control", control, ("displacement", "force"))
     pad = max(0.01, 4.0 * spec.radius) if pad is None else check_positive("pad", pad)
-    sim = _bonded_lattice(spec, params, modulus, stiffness_ratio, local_damping, safety)
-    xy = sim.particles.x[:, :2]
+    sim = _bonded_sample(spec, params, modulus, stiffness_ratio, local_damping, safety)
+    xy, r = sim.particles.x[:, :2], sim.particles.radius
     centre, half_span, half_spacing = 0.5 * spec.length, 0.5 * spec.span, 0.5 * spec.roller_spacing
-    bottom = xy[:, 1] < xy[:, 1].min() + 0.5 * spec.radius
-    top = xy[:, 1] > xy[:, 1].max() - 0.5 * spec.radius
+    bottom, top = _faces(xy[:, 1], r)
     under = lambda row, *x0: np.flatnonzero(row & np.any([np.abs(xy[:, 0] - x) <= 0.5 * pad for x in x0], axis=0))
     supports = under(bottom, centre - half_span, centre + half_span)
     loading = under(top, centre - half_spacing, centre + half_spacing)
@@ -173,6 +224,13 @@ def four_point_beam(spec: BeamSpec | None = None, params: BondParameters | None 
     if control == "force":
         sim.applied_force = np.zeros((len(sim.particles), 3))
     return Beam(sim, spec, supports, loading, mid, control)
+
+
+def _faces(y, radius):
+    """Boolean masks of the particles that form the bottom and the top face: those whose edge lies within half the
+    smallest radius of the lowest bottom edge (highest top edge)."""
+    tolerance = 0.5 * float(radius.min())
+    return (y - radius < np.min(y - radius) + tolerance), (y + radius > np.max(y + radius) - tolerance)
 
 
 def flexural(load, deflection, spec: BeamSpec) -> dict:
@@ -199,8 +257,9 @@ def beam_theory_deflection(load, modulus, poisson, spec: BeamSpec, *, shear: boo
 
 def monotonic_bending(beam: Beam, *, speed: float = 5e-4, max_deflection: float | None = None,
                       record_every: int = 50, drop: float = 0.5, csv=None, max_steps: int = 400_000) -> dict:
-    """Displacement-controlled test: the loading particles move down at ``speed`` [m/s] until the load, averaged
-    over ``record_every`` steps, has fallen to ``drop`` × its peak (or δ reaches ``max_deflection``). Returns arrays
+    """Displacement-controlled test: the loading particles move down at ``speed`` [m/s] until, once a bond has
+    yielded, the load averaged over ``record_every`` steps has fallen to ``drop`` × its peak (or δ reaches
+    ``max_deflection``). Returns arrays
     ``load``, ``deflection``, ``stress``, ``strain``, ``broken`` (broken bonds so far), the peak flexural stress
     ``FS_max``, ``steps`` and ``seconds``; with ``csv`` every record is written as it is taken."""
     check_positive("speed", speed)
@@ -221,7 +280,8 @@ def monotonic_bending(beam: Beam, *, speed: float = 5e-4, max_deflection: float 
         record.add(load=load, deflection=d, stress=float(f["stress"]), strain=float(f["strain"]),
                    broken=len(sim.cracks))
         peak = max(peak, load)
-        if (peak > 0 and load < drop * peak) or (max_deflection is not None and d >= max_deflection):
+        softening = load < drop * peak and np.any(sim.fatigue_bonds.plastic > 0)  # not a start-up transient
+        if softening or (max_deflection is not None and d >= max_deflection):
             break
     record.close()
     out = record.arrays()
@@ -239,30 +299,36 @@ def _write_bonds(series: VtuSeries, cycles: int, sim: Simulation) -> None:
 
 
 def cyclic_bending(beam: Beam, load_max: float, *, load_min_ratio: float = 0.0, steps_per_cycle: int = 4000,
-                   jump: float | None = None, life_ratio: float = 0.5, max_cycles: int = 100_000,
+                   jump: float | None = None, plasticity: str = "frozen", settle: int = 0,
+                   life_ratio: float = 0.5, max_cycles: int = 100_000,
                    reference_cycles: int = 50, csv=None, time_limit: float | None = None, checkpoint=None,
                    max_simulated: int | None = None, vtu=None) -> dict:
-    """Haversine cyclic load between ``load_min_ratio`` × and 1 × ``load_max`` [N] (Fig. 16), shared by the
-    loading particles.
+    """Haversine cyclic load between ``load_min_ratio`` × and 1 × ``load_max`` [N] (Fig. 16), shared by the loading
+    particles.
 
     Each simulated cycle runs ``steps_per_cycle`` steps; at its peak the fatigue update of every bond is applied
-    (with the cycle jump ``jump`` if given, Eqs. 40, 41) and E_f = 23 P S³/(108 δ W H³) is taken from the peak
-    load and deflection. E_f,0 is the mean over the cycles up to ``reference_cycles`` (the paper's first 50); the
-    run ends when E_f/E_f,0 ≤ ``life_ratio`` (the fatigue life), when the beam fails, or when a whole cycle left
-    every bond's damage unchanged (``"shakedown"``: the next cycle would repeat it). Returns per simulated cycle
-    ``cycles``, ``modulus``, ``deflection``, ``residual`` (δ at the cycle's end), ``damaged`` (D > 2 D₀),
-    ``yielding`` (bonds that yielded in the sampled cycle, hence got no fatigue) and ``broken`` bond counts,
-    plus ``life`` (or None), ``stopped`` and the timing; with ``csv`` each row is written as it is computed.
-    With ``checkpoint`` (a file) the state is saved after every simulated cycle and a run that finds the file
-    resumes from it, rewriting ``csv`` from the saved records: an interrupted run loses at most the cycle it was in
-    and then finishes with the same history. With ``vtu`` (a directory) every simulated cycle also writes the bonds
-    as line cells with their damage, fatigue and plastic displacements and yield flag (``bonds_*.vtu`` and
-    ``bonds.pvd`` for ParaView, time = cycle count). ``max_simulated`` stops after that many simulated
-    cycles in this call (an interruption on purpose)."""
+    (with the cycle jump ``jump`` if given, Eqs. 40, 41; ``plasticity`` as in
+    :meth:`~abrakit.dem.fatigue_bonds.FatigueBonds.onset_of_unloading`; after each jump ``settle`` cycles are
+    simulated one by one before the next sample, letting the beam settle from the jump's sudden relaxation) and E_f = 23 P S³/(108 δ W H³) is taken from
+    the peak load and deflection. E_f,0 is the mean over the cycles up to ``reference_cycles`` (the paper's first
+    50); the run ends when E_f/E_f,0 ≤ ``life_ratio`` (the fatigue life), when the beam fails, or when a whole cycle
+    left every bond's damage unchanged (``"shakedown"``: the next cycle would repeat it). Returns per simulated
+    cycle ``cycles``, ``modulus``, ``deflection``, ``residual`` (δ at the cycle's end), ``damaged`` (D > 2 D₀),
+    ``yielding`` (bonds that yielded in the sampled cycle, hence got no fatigue) and ``broken`` bond counts, plus
+    ``life`` (or None), ``stopped`` and the timing; with ``csv`` each row is written as it is computed. With
+    ``checkpoint`` (a file) the state is saved after every simulated cycle and a run that finds the file resumes
+    from it, rewriting ``csv`` from the saved records: an interrupted run loses at most the cycle it was in and then
+    finishes with the same history; a finished run (life, failure, shakedown) is read back, not continued. With
+    ``vtu`` (a directory) every simulated cycle also writes the bonds as line cells with their damage, fatigue and
+    plastic displacements and yield flag (``bonds_*.vtu`` and ``bonds.pvd`` for ParaView, time = cycle count).
+    ``max_simulated`` stops after that many simulated cycles in this call (an interruption on purpose)."""
     check_positive("load_max", load_max)
     check_range("load_min_ratio", load_min_ratio, 0.0, 1.0, high_open=True)
     if jump is not None:
         check_positive("jump", jump)
+    check_option("plasticity", plasticity, ("frozen", "extrapolated"))
+    if int(settle) != settle or settle < 0:
+        raise ValueError(f"settle must be a whole number of cycles ≥ 0, got {settle!r}")
     sim = beam.sim
     if beam.control != "force":
         raise ValueError("cyclic_bending needs a beam built with control='force'")
@@ -275,7 +341,11 @@ def cyclic_bending(beam: Beam, load_max: float, *, load_min_ratio: float = 0.0, 
     series = None if vtu is None else VtuSeries(vtu, "bonds")
     if series is not None:                 # a resumed run keeps the files it wrote before the interruption
         series.entries = [(float(n), f"bonds_{k:05d}.vtu") for k, n in enumerate(record.data["cycles"])]
-    clock, life, stopped, simulated = time.perf_counter(), None, "max_cycles", 0
+    clock, stopped, simulated = time.perf_counter(), "max_cycles", 0
+    ended = None if saved is None else (saved.get("stopped")
+                                        or _ended(record.data, life_ratio, reference_cycles, beam.spec.height))
+    if ended:                                       # a finished run read back from its checkpoint
+        stopped, max_cycles = ended, cycles
     phase = np.arange(1, steps_per_cycle + 1) / steps_per_cycle
     profile = load_min_ratio + (1.0 - load_min_ratio) * 0.5 * (1.0 - np.cos(2.0 * np.pi * phase))
     peak_step = steps_per_cycle // 2 - 1
@@ -288,7 +358,9 @@ def cyclic_bending(beam: Beam, load_max: float, *, load_min_ratio: float = 0.0, 
             if k == peak_step:
                 d_peak = beam.deflection()
                 yielding = int(sim.fatigue_bonds.yielded.sum())
-                cycles += sim.fatigue_bonds.onset_of_unloading(jump=jump, max_cycles=max_cycles - cycles)
+                now = None if _settling(record.data["cycles"], settle) else jump
+                cycles += sim.fatigue_bonds.onset_of_unloading(jump=now, max_cycles=max_cycles - cycles,
+                                                               plasticity=plasticity)
         modulus = float(flexural(load_max, d_peak, beam.spec)["modulus"])
         b = sim.fatigue_bonds
         record.add(cycles=cycles, modulus=modulus, deflection=d_peak, residual=beam.deflection(),
@@ -299,14 +371,9 @@ def cyclic_bending(beam: Beam, load_max: float, *, load_min_ratio: float = 0.0, 
         if checkpoint is not None:
             save_state(checkpoint, {"sim": sim.snapshot(), "record": record.data})
         simulated += 1
-        history = record.data
-        early = [m for m, n in zip(history["modulus"], history["cycles"], strict=True) if n <= reference_cycles]
-        reference = float(np.mean(early or history["modulus"][:1]))
-        if modulus <= life_ratio * reference:
-            life, stopped = cycles, "life"
-            break
-        if not np.isfinite(modulus) or d_peak > 0.1 * beam.spec.height:
-            stopped = "failed"
+        ended = _ended(record.data, life_ratio, reference_cycles, beam.spec.height)
+        if ended:
+            stopped = ended
             break
         if len(before) == len(sim.fatigue_bonds) and np.array_equal(before, sim.fatigue_bonds.damage):
             stopped = "shakedown"            # a cycle that changed no damage repeats itself: nothing grows
@@ -318,9 +385,33 @@ def cyclic_bending(beam: Beam, load_max: float, *, load_min_ratio: float = 0.0, 
             stopped = "max_simulated"
             break
     record.close()
+    if checkpoint is not None and stopped in ("life", "failed", "shakedown") and simulated:
+        save_state(checkpoint, {"sim": sim.snapshot(), "record": record.data, "stopped": stopped})
     out = record.arrays()
-    out.update(life=life, stopped=stopped, simulated_cycles=len(record), seconds=time.perf_counter() - clock)
+    out.update(life=int(cycles) if stopped == "life" else None, stopped=stopped, simulated_cycles=len(record),
+               seconds=time.perf_counter() - clock)
     return out
+
+
+def _settling(cycles, settle: int) -> bool:
+    """True while fewer than ``settle`` single cycles have followed the last cycle jump in the record ``cycles``."""
+    steps = np.diff(np.concatenate([[0], cycles])).astype(int)
+    if settle <= 0 or not np.any(steps > 1):
+        return False
+    return int(np.argmax(steps[::-1] != 1)) < settle
+
+
+def _ended(history: dict, life_ratio: float, reference_cycles: int, height: float) -> str | None:
+    """"life" if the last E_f has fallen to ``life_ratio`` × E_f,0 (the mean up to ``reference_cycles``), "failed"
+    if it is not finite or the deflection exceeds a tenth of the ``height``, else None."""
+    early = [m for m, n in zip(history["modulus"], history["cycles"], strict=True) if n <= reference_cycles]
+    reference = float(np.mean(early or history["modulus"][:1]))
+    modulus, deflection = history["modulus"][-1], history["deflection"][-1]
+    if modulus <= life_ratio * reference:
+        return "life"
+    if not np.isfinite(modulus) or deflection > 0.1 * height:
+        return "failed"
+    return None
 
 
 def uniaxial_modulus(spec: BeamSpec | None = None, params: BondParameters | None = None, *, stress: float = 5e3,
@@ -332,12 +423,10 @@ def uniaxial_modulus(spec: BeamSpec | None = None, params: BondParameters | None
     ``tolerance`` (relative) over 1000 steps. Returns ``E`` [Pa], ``nu`` and the strains."""
     spec = BeamSpec() if spec is None else spec
     params = table_two() if params is None else params
-    sim = _bonded_lattice(spec, params, modulus, stiffness_ratio)
-    xy = sim.particles.x[:, :2].copy()
-    left = np.flatnonzero(xy[:, 0] < xy[:, 0].min() + 0.5 * spec.radius)
-    right = np.flatnonzero(xy[:, 0] > xy[:, 0].max() - 0.5 * spec.radius)
-    bottom = np.flatnonzero(xy[:, 1] < xy[:, 1].min() + 0.5 * spec.radius)
-    top = np.flatnonzero(xy[:, 1] > xy[:, 1].max() - 0.5 * spec.radius)
+    sim = _bonded_sample(spec, params, modulus, stiffness_ratio)
+    xy, r = sim.particles.x[:, :2].copy(), sim.particles.radius
+    left, right = map(np.flatnonzero, _faces(xy[:, 0], r))
+    bottom, top = map(np.flatnonzero, _faces(xy[:, 1], r))
     height = xy[top, 1].mean() - xy[bottom, 1].mean()
     sim.applied_force = np.zeros((len(xy), 3))
     sim.applied_force[right, 0] = stress * spec.height * spec.width / len(right)

@@ -220,20 +220,21 @@ def add_box_servos(sim, stress, axes="xyz", *, speed: float = SERVO_SPEED) -> No
 
 # ---------------------------------------------------------------------------------------------- genesis
 def random_placement(rng, radius, size, *, max_rounds: int = 1000):
-    """Centres of spheres of ``radius`` (N,) at random in the box [0, size] without overlaps (redrawing the
-    overlapping ones in rounds; meant for loose packings such as half-size radii at η ≈ 0.9)."""
+    """Centres of spheres (or, for a 2-entry ``size``, disks) of ``radius`` (N,) at random in the box [0, size]
+    without overlaps (redrawing the overlapping ones in rounds; meant for loose packings such as half-size radii at
+    η ≈ 0.9)."""
     size = np.asarray(size, float)
     lo, hi = radius[:, None], size - radius[:, None]
     if np.any(hi <= lo):
         raise ValueError("the vessel is narrower than a sphere: use more particles or a smaller aspect ratio")
-    x = lo + rng.uniform(size=(len(radius), 3)) * (hi - lo)
+    x = lo + rng.uniform(size=(len(radius), len(size))) * (hi - lo)
     for _ in range(max_rounds):
         pairs = cKDTree(x).query_pairs(2.0 * float(radius.max()), output_type="ndarray")
         d = np.linalg.norm(x[pairs[:, 1]] - x[pairs[:, 0]], axis=1)
         bad = np.unique(pairs[d < radius[pairs[:, 0]] + radius[pairs[:, 1]], 1])
         if not len(bad):
             return x
-        x[bad] = lo[bad] + rng.uniform(size=(len(bad), 3)) * (hi[bad] - lo[bad])
+        x[bad] = lo[bad] + rng.uniform(size=(len(bad), len(size))) * (hi[bad] - lo[bad])
     raise RuntimeError("random placement found no overlap-free arrangement; the placement porosity is too low")
 
 
