@@ -316,3 +316,20 @@ def test_a_trial_far_beyond_the_strength_is_substepped_or_refused_with_a_message
     assert np.all(np.isfinite([dn, ds, d, sn, ss]))
     assert np.all((d >= d0) & (d <= 1.0))
     assert np.max(criterion(sn, ss, d, P) / (P.cohesion * (1 - d0)) ** 2) < 1e-9
+
+
+def test_a_nearly_broken_bond_carrying_shear_by_friction_is_returned():
+    """Hard case from the 95 % beam with extrapolated ratcheting: D = 0.995 in compression, where friction
+    (−σ_n tan φ ≈ 24 kPa) dwarfs the remaining cohesion c(1 − D) ≈ 0.4 kPa. Scaling F by the cohesion alone put
+    the Newton tolerance below round-off and the return failed at every substep; scaled by the surface's size
+    (cohesion plus friction) it converges onto the surface."""
+    from abrakit.experiments.bending import table_two
+
+    p = table_two()
+    trial, start = (-4.221070187981062e-07, 9.520765342589138e-05), (-4.236137435108127e-07, 9.50608697926103e-05)
+    stiffness = (np.array([155896422505.04425]), np.array([64956842710.435104]))
+    du_n, du_s, d, sn, ss = plastic_return(*trial, 0.9948761913007647, p, start=start, stiffness=stiffness,
+                                           max_halvings=0)
+    assert sn[0] < -60e3 and ss[0] > 30e3 and d[0] > 0.9948761913007647 and du_s[0] > 0
+    surface = p.cohesion * (1 - d[0]) - sn[0] * p.tan_phi
+    assert abs(criterion(sn, ss, d, p)[0]) < 1e-9 * surface**2

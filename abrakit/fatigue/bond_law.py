@@ -138,9 +138,9 @@ def bond_stresses(elastic_n, elastic_s, damage, p: BondParameters, kn=None, ks=N
     return sigma_n, ks * intact * np.asarray(elastic_s, float)
 
 
-def _return_residual(y, trial_n, trial_s, damage, p, normal_stress, kn, ks):
+def _return_residual(y, trial_n, trial_s, damage, p, normal_stress, kn, ks, scale):
     """Residual of the plastic return in scaled unknowns y = (Δu_nᵖ/ū_n, Δu_sᵖ/ū_s, 2Δλ c/ū_s), shape (3, B);
-    F is scaled by the start-of-step cohesion c(1 − D)."""
+    F is scaled by ``scale``² (:func:`_yield_scale`)."""
     a, b, lam = y
     d = damage_after(damage, a * p.un, b * p.us, p)
     if normal_stress is None:
@@ -151,8 +151,16 @@ def _return_residual(y, trial_n, trial_s, damage, p, normal_stress, kn, ks):
     g = lam * p.us / p.cohesion                                   # 2Δλ [m/Pa]
     flow_n, flow_s = flow_direction(sigma_n, sigma_s, d, p)
     r = np.array([a - g * flow_n / p.un, b - g * flow_s / p.us,
-                  criterion(sigma_n, sigma_s, d, p) / (p.cohesion * (1.0 - damage)) ** 2])
+                  criterion(sigma_n, sigma_s, d, p) / scale**2])
     return r, d, sigma_n, sigma_s
+
+
+def _yield_scale(sigma_n, damage, p):
+    """The size of the yield surface at a state [Pa]: the current cohesion c(1 − D) plus the friction that a
+    compressive σ_n adds, −σ_n tan φ. F is measured against its square, so that the return's tolerance stays
+    relative both as D → 1 and where a nearly broken bond carries shear by friction alone (the friction term then
+    dominates by orders of magnitude and a cohesion-only scale would put the tolerance below round-off)."""
+    return p.cohesion * (1.0 - damage) + p.tan_phi * np.maximum(-np.asarray(sigma_n, float), 0.0)
 
 
 def _solve3(jac, rhs):
@@ -218,8 +226,8 @@ def plastic_return(trial_n, trial_s, damage, p: BondParameters, *, normal_stress
     else:
         sigma_n, sigma_s = bond_stresses(trial_n, trial_s, damage, p, kn, ks)
     du_n, du_s, d = np.zeros_like(trial_s), np.zeros_like(trial_s), damage.copy()
-    # F is measured against the current cohesion c(1 − D), so the tolerance stays relative as D → 1.
-    active = np.flatnonzero(criterion(sigma_n, sigma_s, damage, p) > tol * (p.cohesion * (1.0 - damage)) ** 2)
+    scale = _yield_scale(sigma_n, damage, p)          # the tolerance is relative to the surface's size
+    active = np.flatnonzero(criterion(sigma_n, sigma_s, damage, p) > tol * scale**2)
     if not active.size:
         return du_n, du_s, d, sigma_n, sigma_s
     tn, ts, d0 = trial_n[active], trial_s[active], damage[active]
@@ -231,7 +239,7 @@ def plastic_return(trial_n, trial_s, damage, p: BondParameters, *, normal_stress
     dfs = 2.0 * p.alpha**2 * ss
     stiff_n = 0.0 if fixed is not None else kn[active] * (1.0 - d0)
     g0 = criterion(sn, ss, d0, p) / (dfn * stiff_n * fn + dfs * ks[active] * (1.0 - d0) * fs)
-    args = (tn, ts, d0, p, fixed, kn[active], ks[active])
+    args = (tn, ts, d0, p, fixed, kn[active], ks[active], scale[active])
     y, converged = _newton(np.array([g0 * fn / p.un, g0 * fs / p.us, g0 * p.cohesion / p.us]), args, tol, max_iter)
     _, d_act, sn, ss = _return_residual(y, *args)
     du_n[active], du_s[active], d[active] = y[0] * p.un, y[1] * p.us, d_act
