@@ -8,7 +8,14 @@ from abrakit.dem.fatigue_bonds import install_fatigue_bonds
 from abrakit.dem.fatigue_specimen import bonded_bar, cyclic_bar, history_deviation
 from abrakit.dem.periodic import Periodic
 from abrakit.dem.state import Particles
-from abrakit.fatigue import BondParameters, bond_stresses, damage_after, fatigue_displacements, monotonic_test, paris_increment
+from abrakit.fatigue import (
+    BondParameters,
+    bond_stresses,
+    damage_after,
+    fatigue_displacements,
+    monotonic_test,
+    paris_increment,
+)
 
 P = BondParameters()
 R = 0.05                      # Ø 0.1 m particles: the bond width 2R is the paper's 0.1 m contact

@@ -309,19 +309,20 @@ def cyclic_bending(beam: Beam, load_max: float, *, load_min_ratio: float = 0.0, 
     Each simulated cycle runs ``steps_per_cycle`` steps; at its peak the fatigue update of every bond is applied
     (with the cycle jump ``jump`` if given, Eqs. 40, 41; ``plasticity`` as in
     :meth:`~abrakit.dem.fatigue_bonds.FatigueBonds.onset_of_unloading`; after each jump ``settle`` cycles are
-    simulated one by one before the next sample, letting the beam settle from the jump's sudden relaxation) and E_f = 23 P S³/(108 δ W H³) is taken from
-    the peak load and deflection. E_f,0 is the mean over the cycles up to ``reference_cycles`` (the paper's first
-    50); the run ends when E_f/E_f,0 ≤ ``life_ratio`` (the fatigue life), when the beam fails, or when a whole cycle
-    left every bond's damage unchanged (``"shakedown"``: the next cycle would repeat it). Returns per simulated
-    cycle ``cycles``, ``modulus``, ``deflection``, ``residual`` (δ at the cycle's end), ``damaged`` (D > 2 D₀),
-    ``yielding`` (bonds that yielded in the sampled cycle, hence got no fatigue) and ``broken`` bond counts, plus
-    ``life`` (or None), ``stopped`` and the timing; with ``csv`` each row is written as it is computed. With
-    ``checkpoint`` (a file) the state is saved after every simulated cycle and a run that finds the file resumes
-    from it, rewriting ``csv`` from the saved records: an interrupted run loses at most the cycle it was in and then
-    finishes with the same history; a finished run (life, failure, shakedown) is read back, not continued. With
-    ``vtu`` (a directory) every simulated cycle also writes the bonds as line cells with their damage, fatigue and
-    plastic displacements and yield flag (``bonds_*.vtu`` and ``bonds.pvd`` for ParaView, time = cycle count).
-    ``max_simulated`` stops after that many simulated cycles in this call (an interruption on purpose)."""
+    simulated one by one before the next sample, letting the beam settle from the jump's sudden relaxation) and E_f
+    = 23 P S³/(108 δ W H³) is taken from the peak load and deflection. E_f,0 is the mean over the cycles up to
+    ``reference_cycles`` (the paper's first 50); the run ends when E_f/E_f,0 ≤ ``life_ratio`` (the fatigue life),
+    when the beam fails, or when a whole cycle left every bond's damage unchanged (``"shakedown"``: the next cycle
+    would repeat it). Returns per simulated cycle ``cycles``, ``modulus``, ``deflection``, ``residual`` (δ at the
+    cycle's end), ``damaged`` (D > 2 D₀), ``yielding`` (bonds that yielded in the sampled cycle, hence got no
+    fatigue) and ``broken`` bond counts, plus ``life`` (or None), ``stopped`` and the timing; with ``csv`` each row
+    is written as it is computed. With ``checkpoint`` (a file) the state is saved after every simulated cycle and a
+    run that finds the file resumes from it, rewriting ``csv`` from the saved records: an interrupted run loses at
+    most the cycle it was in and then finishes with the same history; a finished run (life, failure, shakedown) is
+    read back, not continued. With ``vtu`` (a directory) every simulated cycle also writes the bonds as line cells
+    with their damage, fatigue and plastic displacements and yield flag (``bonds_*.vtu`` and ``bonds.pvd`` for
+    ParaView, time = cycle count). ``max_simulated`` stops after that many simulated cycles in this call (an
+    interruption on purpose)."""
     check_positive("load_max", load_max)
     check_range("load_min_ratio", load_min_ratio, 0.0, 1.0, high_open=True)
     if jump is not None:
