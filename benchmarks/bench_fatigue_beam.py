@@ -31,6 +31,7 @@ import matplotlib.pyplot as plt
 import numpy as np
 from _common import command_line, save_figure
 
+from abrakit.dem.fatigue_specimen import history_deviation
 from abrakit.experiments.bending import BeamSpec, cyclic_bending, four_point_beam, monotonic_bending
 from abrakit.experiments.sweeps import run_sweep
 from abrakit.io import CurveWriter, write_json
@@ -81,14 +82,14 @@ def _life_error(run: dict, reference: dict) -> float | None:
 
 
 def _curve_error(run: dict, reference: dict) -> float:
-    """Largest |E_f/E_f,0 − reference's| over the run's cycles that the reference also reached, up to the first
-    cycle where either has fallen to 0.75 (before the final collapse, whose timing the life compares)."""
+    """Largest relative deviation of E_f/E_f,0 from the reference's at the run's cycles, up to the first cycle where
+    either has fallen to 0.75 (before the final collapse, whose timing the life compares)."""
     n, ratio = np.asarray(reference["cycles"]), np.asarray(reference["modulus_ratio"])
     end = min(n[np.argmax(ratio < 0.75)] if np.any(ratio < 0.75) else n[-1],
               next((c for c, m in zip(run["cycles"], run["modulus_ratio"], strict=True) if m < 0.75), n[-1]))
-    cycles = np.asarray(run["cycles"])
-    keep = cycles <= end
-    return float(np.max(np.abs(np.asarray(run["modulus_ratio"])[keep] - np.interp(cycles[keep], n, ratio))))
+    keep = np.asarray(run["cycles"]) <= end
+    early = {key: np.asarray(run[key])[keep] for key in ("cycles", "modulus_ratio")}
+    return history_deviation(early, reference, key="modulus_ratio")
 
 
 def main(outdir: Path, quick: bool = False) -> dict:
@@ -192,7 +193,7 @@ def main(outdir: Path, quick: bool = False) -> dict:
              f"{r['seconds_per_cycle']:.2f} s/cycle" for r in resolution]
     lines += [f"77 %, {r['name']}: life {r['life']} ({r['stopped']}), deviation "
               f"{'-' if r['life_error'] is None else format(r['life_error'], '+.1%')}, E_f/E_f,0 within "
-              f"{r['curve_error']:.3f}, {r['simulated_cycles']} simulated cycles" for r in jump_runs]
+              f"{r['curve_error']:.1%}, {r['simulated_cycles']} simulated cycles" for r in jump_runs]
     lines += [f"S–N {r.get('plasticity', 'frozen')} {100 * r['level']:.0f} %: life {r['life']} ({r['stopped']}, "
               f"{r['simulated_cycles']} simulated)" for r in sn]
     result["summary"] = "\n".join(lines)
