@@ -40,6 +40,8 @@ def test_disk_packing_settles_jammed_at_the_requested_stress():
     assert overlap.max() < 1e-3                             # 2 kPa against 1 GPa: contacts barely touch
     with pytest.raises(ValueError, match="size"):
         disk_packing([0.1, 0.1, 0.1], radii, rng, modulus=1e9, thickness=0.05, stress=1e3)
+    with pytest.raises(RuntimeError, match="did not settle"):                  # no shrinking allowed: a message
+        disk_packing(size, radii, np.random.default_rng(1), modulus=1e9, thickness=0.05, stress=2e3, max_rounds=0)
 
 
 def test_graded_beam_is_bonded_nearly_stress_free_and_cached(tmp_path, monkeypatch):

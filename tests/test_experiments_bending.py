@@ -100,6 +100,10 @@ def test_bad_beam_input_is_refused():
         cyclic_bending(beam, 100.0)
     with pytest.raises(ValueError, match="load_max"):
         cyclic_bending(four_point_beam(COARSE, control="force"), -1.0)
+    with pytest.raises(ValueError, match="plasticity"):
+        cyclic_bending(four_point_beam(COARSE, control="force"), 100.0, plasticity="ratchet")
+    with pytest.raises(ValueError, match="settle"):
+        cyclic_bending(four_point_beam(COARSE, control="force"), 100.0, settle=-1)
 
 
 def test_an_interrupted_cyclic_run_resumes_from_its_checkpoint_with_the_same_history(tmp_path):
