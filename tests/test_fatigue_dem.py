@@ -96,7 +96,7 @@ def test_the_jump_proceeds_past_a_yielding_bond_unless_held():
         b = sim.fatigue_bonds
         b.peak[:] = [[80e3, 80e3], [0.0, 0.0]]
         b.low[:] = 0.0
-        b.yielded[:] = [False, True]
+        b.ratchet[:] = [[0.0, 0.0], [0.0, 1e-9]]            # the second bond yielded in the sampled cycle
         counts[hold] = b.onset_of_unloading(jump=0.01, hold_while_yielding=hold)
         assert b.damage[1] == P.initial_damage and b.damage[0] > P.initial_damage
     assert counts[True] == 1 < counts[False]

@@ -51,7 +51,6 @@ class FatigueBonds:
     sigma: np.ndarray            # (2, B) current σ_n, σ_s = |σ_s| [Pa]
     peak: np.ndarray             # (2, B) largest σ_n, σ_s since the last cycle update
     low: np.ndarray              # (2, B) smallest σ_n, σ_s since the last cycle update
-    yielded: np.ndarray          # bool: yielded since the last cycle update (E = 0 in Eq. 17)
     ratchet: np.ndarray          # (2, B) |Δuᵖ| normal, shear since the last cycle update [m]
     params: BondParameters
 
@@ -59,11 +58,17 @@ class FatigueBonds:
     def empty(cls, params: BondParameters | None = None) -> FatigueBonds:
         z = np.zeros(0)
         return cls(np.zeros(0, np.int64), np.zeros(0, np.int64), z, z, z, z, z, np.zeros((3, 0)), z, np.zeros((2, 0)),
-                   np.zeros((2, 0)), np.zeros((2, 0)), np.zeros((2, 0)), np.zeros((2, 0)), np.zeros(0, bool),
-                   np.zeros((2, 0)), BondParameters() if params is None else params)
+                   np.zeros((2, 0)), np.zeros((2, 0)), np.zeros((2, 0)), np.zeros((2, 0)), np.zeros((2, 0)),
+                   BondParameters() if params is None else params)
 
     def __len__(self) -> int:
         return len(self.i)
+
+    @property
+    def yielded(self) -> np.ndarray:
+        """Bonds that yielded since the last cycle update (E = 0 in Eq. 17): those with plastic flow in
+        :attr:`ratchet`."""
+        return self.ratchet.sum(axis=0) > 0.0
 
     def take(self, index) -> FatigueBonds:
         value = lambda name: getattr(self, name) if name == "params" else getattr(self, name)[..., index]
@@ -93,7 +98,7 @@ class FatigueBonds:
         new = replace(self, elastic_n=trial_n - du_n, elastic_s=elastic_s, damage=damage,
                       plastic=self.plastic + flow, sigma=sigma,
                       peak=np.maximum(self.peak, sigma), low=np.minimum(self.low, sigma),
-                      yielded=self.yielded | (flow.sum(axis=0) > 0), ratchet=self.ratchet + flow)
+                      ratchet=self.ratchet + flow)
         force = -self.area * (sigma_n * n + self.ks * (1.0 - damage) * elastic_s)
         lever = cross(n, force)
         return new, force, -arm_i * lever, -arm_j * lever, point
@@ -135,9 +140,9 @@ class FatigueBonds:
         return count
 
     def restart_cycle(self) -> None:
-        """Forget the stress extremes and yield flags recorded so far (e.g. after a monotonic pre-load)."""
+        """Forget the stress extremes and the plastic flow (hence the yield flags) recorded so far (e.g. after a
+        monotonic pre-load)."""
         self.peak, self.low = self.sigma.copy(), self.sigma.copy()
-        self.yielded = np.zeros(len(self), bool)
         self.ratchet = np.zeros((2, len(self)))
 
 
@@ -168,7 +173,7 @@ def install_fatigue_bonds(sim, params: BondParameters, *, thickness=1.0, width_m
     z2 = np.zeros((2, b))
     new = FatigueBonds(i, j, width, width * thickness, kn, ks, np.zeros(b), np.zeros((3, b)),
                        np.full(b, params.initial_damage), z2, z2.copy(), z2.copy(), z2.copy(), z2.copy(),
-                       np.zeros(b, bool), z2.copy(), params)
+                       z2.copy(), params)
     old = sim.fatigue_bonds
     if len(old) and old.params != params:
         raise ValueError("all fatigue bonds of a simulation share one BondParameters")

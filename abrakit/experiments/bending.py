@@ -343,10 +343,8 @@ def cyclic_bending(beam: Beam, load_max: float, *, load_min_ratio: float = 0.0, 
     if series is not None:                 # a resumed run keeps the files it wrote before the interruption
         series.entries = [(float(n), f"bonds_{k:05d}.vtu") for k, n in enumerate(record.data["cycles"])]
     clock, stopped, simulated = time.perf_counter(), "max_cycles", 0
-    ended = None if saved is None else (saved.get("stopped")
-                                        or _ended(record.data, life_ratio, reference_cycles, beam.spec.height))
-    if ended:                                       # a finished run read back from its checkpoint
-        stopped, max_cycles = ended, cycles
+    if saved is not None and saved.get("stopped"):  # a finished run read back from its checkpoint
+        stopped, max_cycles = saved["stopped"], cycles
     phase = np.arange(1, steps_per_cycle + 1) / steps_per_cycle
     profile = load_min_ratio + (1.0 - load_min_ratio) * 0.5 * (1.0 - np.cos(2.0 * np.pi * phase))
     peak_step = steps_per_cycle // 2 - 1
@@ -369,15 +367,14 @@ def cyclic_bending(beam: Beam, load_max: float, *, load_min_ratio: float = 0.0, 
                    broken=len(sim.cracks))
         if series is not None:
             _write_bonds(series, cycles, sim)
-        if checkpoint is not None:
-            save_state(checkpoint, {"sim": sim.snapshot(), "record": record.data})
         simulated += 1
         ended = _ended(record.data, life_ratio, reference_cycles, beam.spec.height)
+        if not ended and len(before) == len(sim.fatigue_bonds) and np.array_equal(before, sim.fatigue_bonds.damage):
+            ended = "shakedown"              # a cycle that changed no damage repeats itself: nothing grows
+        if checkpoint is not None:
+            save_state(checkpoint, {"sim": sim.snapshot(), "record": record.data, "stopped": ended})
         if ended:
             stopped = ended
-            break
-        if len(before) == len(sim.fatigue_bonds) and np.array_equal(before, sim.fatigue_bonds.damage):
-            stopped = "shakedown"            # a cycle that changed no damage repeats itself: nothing grows
             break
         if time_limit is not None and time.perf_counter() - clock > time_limit:
             stopped = "time_limit"
@@ -386,8 +383,6 @@ def cyclic_bending(beam: Beam, load_max: float, *, load_min_ratio: float = 0.0, 
             stopped = "max_simulated"
             break
     record.close()
-    if checkpoint is not None and stopped in ("life", "failed", "shakedown") and simulated:
-        save_state(checkpoint, {"sim": sim.snapshot(), "record": record.data, "stopped": stopped})
     out = record.arrays()
     out.update(life=int(cycles) if stopped == "life" else None, stopped=stopped, simulated_cycles=len(record),
                seconds=time.perf_counter() - clock)

@@ -126,16 +126,20 @@ def cycle_update(damage, peak, low, p: BondParameters, *, width=None, eligible=T
     range_n = tensile_part(peak_n) - tensile_part(low_n)
     increment = np.where(fatigued, paris_increment(damage, range_n, np.abs(np.subtract(peak_s, low_s)), p, width),
                          0.0)
-    ratchet = np.zeros((2,) + damage.shape) if ratchet is None else np.abs(np.asarray(ratchet, float))
-    if ratchet.shape != (2,) + damage.shape:
-        raise ValueError(f"ratchet must have shape {(2,) + damage.shape}, got {ratchet.shape}")
-    ratchet_rate = damage_after(damage, ratchet[0], ratchet[1], p) - damage
+    ratchet_rate = 0.0
+    if ratchet is not None:
+        ratchet = np.abs(np.asarray(ratchet, float))
+        if ratchet.shape != (2,) + damage.shape:
+            raise ValueError(f"ratchet must have shape {(2,) + damage.shape}, got {ratchet.shape}")
+        ratchet_rate = float(np.max(damage_after(damage, ratchet[0], ratchet[1], p) - damage, initial=0.0))
     cycles = 1
-    if jump is not None and (np.any(fatigued) or np.any(ratchet_rate > 0.0)):
+    if jump is not None and (np.any(fatigued) or ratchet_rate > 0.0):
         cycles, increment = cycle_jump(damage, increment, jump, max_cycles=max_cycles, exponent=p.paris_exponent,
-                                       other_rate=float(np.max(ratchet_rate, initial=0.0)))
+                                       other_rate=ratchet_rate)
         increment = increment.reshape(np.shape(damage))
     du_n, du_s = fatigue_displacements(damage, increment, peak_n, peak_s, p)
-    skipped = (cycles - 1) * ratchet
-    increment = damage_after(damage + increment, skipped[0], skipped[1], p) - damage
+    skipped = np.zeros((2,) + damage.shape)
+    if ratchet is not None and cycles > 1:
+        skipped = (cycles - 1) * ratchet
+        increment = damage_after(damage + increment, skipped[0], skipped[1], p) - damage
     return cycles, increment, np.where(fatigued, du_n, 0.0), np.where(fatigued, du_s, 0.0), skipped
