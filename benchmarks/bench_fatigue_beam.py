@@ -131,9 +131,9 @@ def main(outdir: Path, quick: bool = False) -> dict:
                      "checkpoint": str(checkpoints / f"sn_extrapolated_{level:.2f}.pkl")} for level in levels]
     sn = [{**r["params"], **r["result"]} for r in run_sweep(fatigue_case, frozen + extrapolated, outdir / f"{NAME}_sn",
                                                             backend="serial")]
-    fits = {}
+    fits, lives = {}, {}
     for plasticity in ("frozen", "extrapolated"):
-        failed = [s for s in sn if s.get("plasticity", "frozen") == plasticity and s["life"]]
+        failed = lives[plasticity] = [s for s in sn if s.get("plasticity", "frozen") == plasticity and s["life"]]
         if len(failed) >= 2:
             slope, intercept = np.polyfit(np.log10([s["life"] for s in failed]), [s["level"] for s in failed], 1)
             fits[plasticity] = {"intercept": float(intercept), "slope_per_decade": float(slope)}
@@ -176,7 +176,7 @@ def main(outdir: Path, quick: bool = False) -> dict:
     ax[1].set(xlabel="cycles N", ylabel="E_f / E_f,0", title="77 % of FS_max: modulus degradation")
     ax[1].legend(fontsize=6)
     for plasticity, marker in (("frozen", "o"), ("extrapolated", "s")):
-        failed = [s for s in sn if s.get("plasticity", "frozen") == plasticity and s["life"]]
+        failed = lives[plasticity]
         if not failed:
             continue
         ax[2].semilogx([s["life"] for s in failed], [100 * s["level"] for s in failed], marker,
