@@ -93,6 +93,16 @@ def from_mandel(v) -> np.ndarray:
     return _from_vector(_check_vector("v", v), VECTOR_WEIGHTS["mandel"])
 
 
+def mandel_rotation(Q) -> np.ndarray:
+    """Mandel matrix ``R`` (..., 6, 6) of the change of axes ``A' = Q A Q^T`` (rows of ``Q`` are the new axes):
+    ``to_mandel(Q A Q^T) = R @ to_mandel(A)``. ``R`` is orthogonal, so ``A = R^T A'`` and a stiffness turns
+    into ``R C R^T``."""
+    Q = _check_tensor("Q", Q)
+    units = from_mandel(np.eye(6))                                   # (6, 3, 3): the tensor of each basis vector
+    turned = np.einsum("...ia,kab,...jb->...kij", Q, units, Q)
+    return np.swapaxes(to_mandel(turned), -1, -2)
+
+
 def trace(A) -> np.ndarray:
     """tr A, batched."""
     return np.trace(_check_tensor("A", A), axis1=-2, axis2=-1)

@@ -1,5 +1,7 @@
-"""Regularised damage-plasticity (Ch. 6-7): Model I (gradient-enhanced, element Laplacian) and Model II (ERVE)."""
+"""Regularised damage-plasticity (Ch. 6-7): Model I (gradient-enhanced, element Laplacian) and Model II (ERVE);
+and the anisotropic softening damage of seed 001, regularised by its crack band (:mod:`.crack_band`)."""
 
+from abrakit.damage.crack_band import CrackBandBar
 from abrakit.damage.laplacian import (
     ElementLaplacian,
     element_centres,
@@ -18,6 +20,7 @@ from abrakit.damage.runs import SpecimenRun, run_specimen
 from abrakit.damage.specimens import Specimen, specimen
 
 __all__ = [
+    "CrackBandBar",
     "ElementLaplacian",
     "element_centres",
     "element_laplacian",

@@ -254,7 +254,7 @@ def rigid_body_modes(points: np.ndarray, component: np.ndarray) -> np.ndarray:
     """
     dim, n = points.shape
     modes = [(component == c).astype(float) for c in range(dim)]
-    x = points - points.mean(axis=1, keepdims=True)
+    x = points - (points.mean(axis=1, keepdims=True) if n else 0.0)     # n = 0: every DOF prescribed
     pairs = [(0, 1)] if dim == 2 else [(0, 1), (1, 2), (2, 0)]
     for a, b in pairs:  # rotation in the (a, b) plane: u_a = -x_b, u_b = x_a
         modes.append(np.where(component == a, -x[b], 0.0) + np.where(component == b, x[a], 0.0))

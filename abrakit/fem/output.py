@@ -1,7 +1,8 @@
 """Results written as a run goes: curves (CSV), fields (VTU time series + ParaView .pvd), checkpoints (.npz).
 
 Field output per step: the displacement at the nodes, and per element the quadrature-point averages of the
-stress tensor components (MPa), the von Mises stress and every scalar or vector state variable of the material.
+stress tensor components (MPa), the von Mises stress and every scalar or vector state variable of the material;
+crack axes (state ``"axes"``, rows n, t1, t2 per point) are written as the element's ``crack_normal``.
 """
 
 from __future__ import annotations
@@ -52,7 +53,9 @@ def cell_fields(stress: np.ndarray, state: dict) -> dict:
     nel, nqp = stress.shape[:2]
     for name, value in state.items():
         value = np.asarray(value)
-        if value.shape[:2] == (nel, nqp) and value.ndim <= 3 and name != "cauchy":
+        if name == "axes" and value.shape[:2] == (nel, nqp) and value.shape[2:] == (3, 3):
+            fields["crack_normal"] = value[:, 0, 0, :]         # crack axes (rows n, t1, t2): the first point's normal
+        elif value.shape[:2] == (nel, nqp) and value.ndim <= 3 and name != "cauchy":
             mean_value = value.mean(axis=1)
             fields[name] = T.from_mandel(mean_value).reshape(nel, 9) \
                 if name in MANDEL_STATE and value.shape[-1] == 6 else mean_value

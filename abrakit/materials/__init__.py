@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from .anisotropic_damage import AnisotropicSofteningDamage, ProjectedBandWidth, projected_band_width
 from .base import (
     DEVIATORIC,
     IDENTITY,
@@ -34,6 +35,8 @@ from .model_one import ModelIDamage
 from .model_two import ModelIIDamage, effective_damage_function, erve_strains
 from .plasticity import VonMisesPlasticity, plastic_step, uniaxial_hardening_modulus, uniaxial_yield_stress
 from .softening import LinearSofteningDamage
+from .softening_laws import ExponentialSoftening, LinearSoftening, max_band_width, softening_law
+from .strength_statistics import StrengthStatistics
 
 #: Table 7.1, Model I (MPa; beta in MPa mm^2: 0.1 almost local, 1 regularised).
 TABLE_7_1 = {"E": 200000.0, "nu": 0.33, "r_d": 0.05, "r_p": 60.0, "K_H": 8000.0, "beta": 0.1}
@@ -41,6 +44,14 @@ TABLE_7_1 = {"E": 200000.0, "nu": 0.33, "r_d": 0.05, "r_p": 60.0, "K_H": 8000.0,
 TABLE_7_2 = {"E": 200000.0, "nu": 0.33, "r_d": 0.1, "n": 20, "dt": 1.0, "r_p": 60.0, "K_H": 8000.0, "alpha": 0.05}
 
 __all__ = [
+    "AnisotropicSofteningDamage",
+    "ExponentialSoftening",
+    "LinearSoftening",
+    "ProjectedBandWidth",
+    "StrengthStatistics",
+    "max_band_width",
+    "projected_band_width",
+    "softening_law",
     "DEVIATORIC",
     "IDENTITY",
     "TABLE_7_1",
