@@ -22,6 +22,7 @@ DEMOS = {
     "localisation": "abrakit.damage.localisation",
     "model_one": "abrakit.damage.model_one_fe",
     "model_two": "abrakit.damage.model_two_fe",
+    "anisotropic_damage": "abrakit.damage.crack_band",
     "scratch": "abrakit.scratch",
     "scratch_scene": "abrakit.scratch.scene",
     "fatigue": "abrakit.fatigue",

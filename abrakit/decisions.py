@@ -29,6 +29,8 @@ class Decision:
 
 BOND = "tests/test_fatigue_bond.py::"
 BEND = "tests/test_experiments_bending.py::"
+AD = "tests/test_anisotropic_damage.py::"
+CB = "tests/test_crack_band.py::"
 
 DECISIONS: tuple[Decision, ...] = (
     Decision("switch of the rate law, Eq. (2.112)", "|p| > r₂", "|p| > r₁",
@@ -179,6 +181,69 @@ DECISIONS: tuple[Decision, ...] = (
               "tests/test_fatigue_dem.py::test_bonds_record_their_plastic_flow_per_cycle_and_extrapolate_it_on_request",
               "benchmarks/bench_fatigue_beam.py"),
              "four_point_bending", "reconstruction"),
+    Decision("damage tensor of seed 001", "σ = (I − D) C (ε − ε_res) with Chaboche's D from one normal and two "
+             "shear damage variables in the crack axes; its entries are not printed",
+             "D_xx,xx = d_n, D_yy,xx = D_zz,xx = d_n ν/(1 − ν), D_xy,xy = d_xy, D_xz,xz = d_xz, the rest zero; d_n "
+             "acts only while the crack is open (e_n = σ_e,xx/C₁₁ > 0)",
+             "the only such D for which a fully open crack (d_n = 1) carries no traction while the material beside "
+             "it keeps its plane-stress stiffness (E along y and z, 2μ in yz shear); (I − D) C is then symmetric "
+             "and the cracking strains are d_n e_n, d_xy γ₁, d_xz γ₂ (Nairn, Hammerquist & Aimene 2017)",
+             (AD + "test_a_tension_crack_leaves_the_stiffness_along_the_crack_plane_untouched",
+              AD + "test_a_closed_crack_carries_compression_and_never_fails_in_the_normal_direction",
+              AD + "test_unloading_is_secant_back_to_the_origin"), "anisotropic_damage", "reconstruction"),
+    Decision("softening and the crack band of seed 001", "softening laws whose areas are G_Ic and G_IIc; how the "
+             "opening relates to a point's strain is not given (MPM particle size)",
+             "the opening is smeared over the band width h, δ = h d e; h = the element's extent along the crack "
+             "normal (projection), fixed at initiation; a band wider than h_max = k M G_c/σ_c² (k = 2 linear, 1 "
+             "exponential; M = E in mode I, μ in mode II) is refused with its limit",
+             "with δ = h d e the energy per crack area is G_c whatever the mesh (bar of 1–64 elements: G_Ic A to "
+             "4·10⁻⁶ by the work); beyond h_max a point snaps back on its own and the band dissipates more than G_c",
+             (CB + "test_bar_dissipates_the_toughness_per_crack_area_on_every_mesh",
+              CB + "test_an_element_wider_than_the_band_limit_is_refused_when_it_cracks",
+              AD + "test_too_wide_a_band_is_refused_with_its_limit"), "anisotropic_damage", "reconstruction"),
+    Decision("damage under a traction failure surface", "surfaces 0–3 described in words (cuboid: return normal to "
+             "the surface; ovoid and coupled cuboid: towards the origin, d_n = d_xy = d_xz)",
+             "each group of coupled directions shares one damage d, found from f(d) = 1 with the openings "
+             "δᵢ = max(δᵢ,old, h d eᵢ) (false position, Illinois); cuboid: three groups, elliptical cylinder: normal "
+             "+ one shear group (|(γ₁, γ₂)|), ovoid: (T_n/S_I)² + (T_t/S_II)² = 1, coupled cuboid: the largest "
+             "ratio; the tangent is the consistent one by implicit differentiation",
+             "damage growth along the secant (towards the origin) is what the seed describes for the coupled "
+             "surfaces; for one direction it is the usual cohesive return; the consistent tangent matches finite "
+             "differences to 1e-7",
+             (AD + "test_tension_then_shear_follows_the_coupling_of_each_surface",
+              AD + "test_tangent_is_consistent_on_the_softening_branch"), "anisotropic_damage", "reconstruction"),
+    Decision("crack plane of a shear initiation", "the normal of the failure envelope at initiation fixes the crack "
+             "normal", "tension: the direction of σ₁; shear ((σ₁ − σ₃)/2 ≥ τ_c): n = (v₁ + v₃)/√2, t₁ = (v₁ − v₃)/√2, "
+             "eigenvector signs fixed (largest component positive) so the choice between the two planes of largest "
+             "shear is the same on every machine; plane=True keeps n in the x–y plane",
+             "the two planes of largest shear are equivalent; an unfixed eigenvector sign would pick either at random",
+             (AD + "test_shear_initiation_takes_the_plane_of_largest_shear",
+              AD + "test_plane_crack_normal_is_the_principal_direction_of_a_rotated_tension"),
+             "anisotropic_damage", "choice"),
+    Decision("dissipation of seed 001's model", "energies G_I, G_II tracked as history variables, method not given",
+             "∫ Y dd with Y_n = C₁₁⟨e_n⟩₊²/2, Y_t = μγ²/2, the strain linear in the step and the damage solved at "
+             "s = ¼, ½, ¾ too (trapezoid on four intervals)",
+             "the thermodynamic dissipation of (AD.1); one trapezoid per step was 4.5 % high on a 64-element bar, "
+             "four intervals 0.3 %; the work–energy budget closes to 0.5 % of G_Ic/h on a mixed path",
+             (AD + "test_energy_budget_closes_on_a_mixed_path_with_unloading",
+              CB + "test_bar_dissipates_the_toughness_per_crack_area_on_every_mesh"), "anisotropic_damage", "choice"),
+    Decision("a prescribed crack plane", "the crack normal comes from the initiation law",
+             "crack_normal=(…) fixes it where the path is known (the DCB ligament); the point cracks when its "
+             "tractions on that plane leave the surface",
+             "left to the initiation law, the arms' bending starts cracks with inclined normals ahead of the DCB's "
+             "tip and these fixed cracks lock the band: the force kept rising to 5 times LEFM's",
+             (AD + "test_prescribed_crack_plane_cracks_when_its_traction_reaches_the_strength",
+              CB + "test_dcb_propagation_force_approaches_lefm_as_the_mesh_is_refined"), "anisotropic_damage",
+             "choice"),
+    Decision("seed 001 on the steel specimens of Ch. 7", "no parameters for a steel",
+             "Table 7.1's E and ν, σ_c = 120 MPa, τ_c = 80 MPa, G_IIc = 2 G_Ic, G_Ic = 10 N/mm, ovoid, linear laws",
+             "chosen so that the double notch peaks near Model I and II (about 10 kN); G_Ic is the model's "
+             "regularisation parameter, as β and α are for Model I and II",
+             ("benchmarks/bench_anisotropic_damage.py",), "anisotropic_damage", "choice"),
+    Decision("pressure-dependent shear strength (seed 001)", "optional, with an iterative pressure loop",
+             "not built", "none of the toolkit's problems needs it; the initiation and the surfaces are pressure "
+             "independent", (AD + "test_shear_initiation_does_not_depend_on_pressure",), "anisotropic_damage",
+             "choice"),
 )
 
 

@@ -353,3 +353,53 @@ def test_uniaxial_stress_with_poisson_contraction_dissipates_the_toughness():
     result = uniaxial_stress(m, ramp(SIGMA_C / E + 2.0 * G_I / SIGMA_C / h, 1500))
     assert work(result, "11") * h == pytest.approx(G_I, rel=1e-2)
     assert result.stress_component("11").max() == pytest.approx(SIGMA_C, rel=1e-2)
+
+
+# ---- a prescribed crack plane, the secant tangent -----------------------------------------------------------------
+def test_prescribed_crack_plane_cracks_when_its_traction_reaches_the_strength():
+    """crack_normal = y: uniaxial strain along x never cracks that plane (no traction on it in tension along x;
+    the Poisson stresses stay below sigma_c); along y it cracks at sigma_yy = sigma_c with normal y."""
+    m = material(crack_normal=(0.0, 2.0, 0.0))                        # normalised on construction
+    np.testing.assert_allclose(m.crack_normal, [0.0, 1.0, 0.0])
+    along_x = uniaxial_strain(m, ramp(0.9 * SIGMA_C / m.lam, 50))     # sigma_yy = lambda eps < 0.9 sigma_c
+    assert not along_x.internal["initiated"].any()
+    state = m.initial_state(())
+    for eps in np.linspace(0.0, 1.2 * SIGMA_C / m.C11, 60):
+        response = m.update(state, np.array([0.0, eps, 0.0, 0.0, 0.0, 0.0]))
+        if response.state["initiated"] and not state["initiated"]:
+            assert response.stress[1] <= SIGMA_C * (1.0 + 1e-12)
+            assert eps * m.C11 >= SIGMA_C
+            np.testing.assert_allclose(response.state["axes"][0], [0.0, 1.0, 0.0])
+        state = response.state
+    assert state["initiated"]
+
+
+def test_prescribed_crack_plane_must_lie_in_the_plane_for_2d():
+    with pytest.raises(ValueError, match="crack_normal"):
+        material(plane=True, crack_normal=(0.0, 0.6, 0.8))
+    with pytest.raises(ValueError, match="crack_normal"):
+        material(crack_normal=(0.0, 0.0, 0.0))
+
+
+def test_secant_tangent_is_the_symmetric_damaged_stiffness():
+    m = material(tangent="secant")
+    state = cracked_in_tension(m)
+    eps = np.array([1.4 * SIGMA_C / m.C11, 0.0, 0.0, 0.0, 0.0, 0.0])
+    response = m.update(state, eps)
+    np.testing.assert_allclose(response.tangent, response.tangent.T, atol=1e-9)
+    np.testing.assert_allclose(response.tangent @ eps, response.stress, rtol=1e-12)
+    with pytest.raises(ValueError, match="tangent"):
+        material(tangent="numerical")
+
+
+def test_shear_initiation_does_not_depend_on_pressure():
+    """The seed's optional pressure-dependent shear strength is not built (decisions page): a hydrostatic pressure
+    added to a shear state moves neither the shear initiation nor its plane."""
+    m = material()
+    for pressure in (0.0, -50.0, -200.0):
+        stress = T.to_mandel(np.diag([1.01 * TAU_C, 0.0, -1.01 * TAU_C]) + pressure * np.eye(3))
+        state = m.update(m.initial_state(()), np.linalg.solve(m.stiffness, stress)).state
+        assert state["initiated"]
+        assert abs(state["axes"][0] @ np.array([1.0, 0.0, 1.0]) / np.sqrt(2.0)) == pytest.approx(1.0)
+        below = T.to_mandel(np.diag([0.99 * TAU_C, 0.0, -0.99 * TAU_C]) + pressure * np.eye(3))
+        assert not m.update(m.initial_state(()), np.linalg.solve(m.stiffness, below)).state["initiated"]

@@ -31,3 +31,16 @@ def test_grain_verdicts_follow_their_deviation(tmp_path):
     assert verdicts["groove area A_g, D = 100 µm grain at 2 N"] == "reproduced"
     assert verdicts["degree of wear f_ab, D = 100 µm grain"] == "reproduced"
     assert verdicts["groove area A_g, D = 200 µm grain at 2 N"] == "differs"
+
+
+def test_anisotropic_claims_read_the_worst_bar_and_the_finest_dcb(tmp_path):
+    import json
+
+    rows = [{"study": "bar", "elements": n, "max_error_pct": e, "case": f"n = {n}", "size": n}
+            for n, e in ((1, 0.001), (64, -0.3))]
+    rows += [{"study": "dcb", "case": f"sigma_c = {s} MPa, h = {h} mm", "size": h, "error_pct": e}
+             for s, h, e in ((30, 0.5, 5.0), (30, 0.125, 2.0), (60, 0.125, 0.8))]
+    (tmp_path / "anisotropic_damage.json").write_text(json.dumps({"rows": rows}))
+    claims = [c for c in R.status(tmp_path) if c.chapter == "anisotropic_damage"]
+    assert claims[0].verdict == "reproduced" and "0.30%" in claims[0].ours
+    assert "sigma_c = 60 MPa, h = 0.125 mm" in claims[1].quantity and claims[1].verdict == "reproduced"

@@ -1,9 +1,9 @@
-"""One run of either damage model on a Chapter 7 specimen, recorded the same way for both (the comparison chapter).
+"""One run of a damage model on a Chapter 7 specimen, recorded the same way for every model (the comparison chapter).
 
 :func:`run_specimen` loads a :class:`~abrakit.damage.specimens.Specimen` with Model I
-(:mod:`abrakit.damage.model_one_fe`) or Model II (:mod:`abrakit.damage.model_two_fe`) and returns a
-:class:`SpecimenRun`. It lives apart from the specimens so that the models may use the specimens (their demos do)
-without an import cycle.
+(:mod:`abrakit.damage.model_one_fe`), Model II (:mod:`abrakit.damage.model_two_fe`) or the anisotropic softening
+damage of seed 001 (``"anisotropic"``, :mod:`abrakit.damage.crack_band`) and returns a :class:`SpecimenRun`. It
+lives apart from the specimens so that the models may use the specimens (their demos do) without an import cycle.
 """
 
 from __future__ import annotations
@@ -13,10 +13,11 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..fem import PathControl, StepControl
+from ..fem import PathControl, PathFollowingSolver, StepControl
 from ..fem.solver import StepFailed
 from ..materials import TABLE_7_1, ModelIDamage
 from ..validation import check_option, check_positive
+from .crack_band import specimen_material
 from .model_one_fe import ModelISolver
 from .model_one_path import ModelIPathFollowingSolver
 from .model_two_fe import run_model_two
@@ -27,13 +28,15 @@ __all__ = ["REGULARISATION", "SpecimenRun", "run_specimen"]
 
 #: Regularisation parameters of Ch. 7: Model I beta (MPa mm^2, Table 7.1), Model II alpha (1/(N mm), Table 7.2).
 REGULARISATION = {"I": {"weak": 0.1, "strong": 1.0}, "II": {"weak": 0.05, "strong": 0.005}}
+MODELS = ("I", "II", "anisotropic")
 
 
 @dataclass
 class SpecimenRun:
     """Model-independent record of one run: the curve (u in mm, F in N for the whole specimen), the final
     element fields ``stiffness_loss`` (``1 - f`` for Model I, ``1 - f_bar`` for Model II) and ``alpha_p``, and
-    the cost (converged ``steps``, Newton ``iterations``, ``cutbacks``, wall ``seconds``)."""
+    the cost (converged ``steps``, Newton ``iterations``, ``cutbacks``, wall ``seconds``); ``dissipated`` (N mm, the
+    whole specimen, one value per point of the curve) where the model counts it (the anisotropic one)."""
 
     model: str
     parameter: float
@@ -48,6 +51,7 @@ class SpecimenRun:
     cutbacks: int
     seconds: float
     result: object = None
+    dissipated: np.ndarray | None = None
 
 
 class _Stop(Exception):
@@ -64,12 +68,20 @@ def run_specimen(specimen: Specimen, model: str, parameter: float, *, step: floa
     (implicit return map, consistent tangent at frozen f). Both stop once the force has fallen below
     ``stop_fraction`` of its peak; cutbacks may add steps.
 
+    ``model="anisotropic"``: seed 001's anisotropic softening damage with ``G_Ic = parameter`` (N/mm) and
+    :data:`~abrakit.damage.crack_band.STEEL_SPECIMENS`, always path-followed (dissipation control after the peak,
+    exact for its secant unloading; ``path`` default: load steps of 10 ``step``, then G_Ic sqrt(A)/100 of
+    dissipation per step, A the specimen's area), until ``stop_fraction`` of the peak. ``stiffness_loss`` is then
+    the normal damage d_n, ``alpha_p`` zero, and ``dissipated`` the dissipation at every step.
+
     ``gauge=(low, high)`` (mm, Model I only): follow the path instead
     (:class:`~abrakit.damage.model_one_path.ModelIPathFollowingSolver`, opening of the extensometer
     :meth:`Specimen.gauge`; ``path`` default: first load step 10 ``step``, opening steps at most 20 times the
     first), through any snap-back, until ``stop_fraction`` of the peak.
     """
-    check_option("model", model, ("I", "II"))
+    check_option("model", model, MODELS)
+    if model == "anisotropic":
+        return _crack_band(specimen, parameter, path, 10 * step / specimen.displacement, stop_fraction)
     if gauge is not None and model != "I":
         raise ValueError(f"gauge: path following by a gauge opening is for Model I only, got model={model!r}")
     steps = max(1, int(round(specimen.displacement / check_positive("step", step))))
@@ -122,3 +134,34 @@ def _follow(specimen: Specimen, material, gauge, path: PathControl, stop_fractio
     return SpecimenRun("I", material.beta, c[f"u_{name}"], specimen.force_scale * c[f"F_{name}"], 1.0 - res.f,
                        res.alpha_p, status, message, len(c["step"]) - 1, int(np.sum(c["iterations"])),
                        int(res.solve.cutbacks), res.seconds, res)
+
+
+def _crack_band(specimen: Specimen, toughness: float, path: PathControl | None, increment: float,
+                stop_fraction) -> SpecimenRun:
+    """Seed 001's model on ``specimen`` under dissipation-controlled path following (see :func:`run_specimen`)."""
+    material = specimen_material(specimen.basis, check_positive("parameter (G_Ic)", toughness))
+    area = mesh_area(specimen.plane_mesh)
+    path = path or PathControl(initial=increment, maximum=increment, dissipation=toughness * np.sqrt(area) / 100,
+                               max_steps=5000)
+    solver = PathFollowingSolver(specimen.basis, material, specimen.dirichlet, path=path)
+    dissipated = [0.0]
+    status, message = "fractured", ""
+    tic = time.perf_counter()
+    try:
+        res = solver.run(stop_force=stop_fraction or 0.0, end=np.inf, progress=False, vtu_every=0,
+                         on_step=lambda r: dissipated.append(float(np.sum(material.dissipation(r.state)
+                                                                            * solver.kin.dx))))
+    except StepFailed as failure:      # keep the followed part of the path
+        status, message, res = "failed", str(failure), failure.result
+    c, name = res.curves, specimen.loaded
+    d_n = res.state["d"][..., 0].mean(axis=1)
+    return SpecimenRun("anisotropic", toughness, c[f"u_{name}"], specimen.force_scale * c[f"F_{name}"], d_n,
+                       np.zeros_like(d_n), status, message, len(c["step"]) - 1, int(np.sum(c["iterations"])),
+                       int(res.cutbacks), time.perf_counter() - tic, res,
+                       specimen.force_scale * np.array(dissipated))
+
+
+def mesh_area(mesh) -> float:
+    """Area of a 2D mesh of polygons (mm²): the shoelace formula on every element's corners."""
+    x, y = mesh.p[0, mesh.t], mesh.p[1, mesh.t]
+    return float(0.5 * np.abs(np.sum(x * np.roll(y, -1, axis=0) - np.roll(x, -1, axis=0) * y, axis=0)).sum())

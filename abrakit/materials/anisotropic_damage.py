@@ -125,6 +125,21 @@ def projected_band_width(basis) -> ProjectedBandWidth:
     return ProjectedBandWidth(np.broadcast_to(corners[:, None], (corners.shape[0], nqp, *corners.shape[1:])))
 
 
+def crack_axes(normals: np.ndarray, plane: bool) -> np.ndarray:
+    """Orthonormal crack axes (m, 3, 3), rows n, t1, t2, for unit ``normals`` (m, 3): in the plane, t1 = n turned
+    by 90° about z and t2 = z; in 3D, t1 along n × (the axis least aligned with n)."""
+    m = len(normals)
+    if plane:
+        t1 = np.stack([-normals[:, 1], normals[:, 0], np.zeros(m)], axis=1)
+        t2 = np.broadcast_to([0.0, 0.0, 1.0], (m, 3))
+    else:
+        least = np.eye(3)[np.abs(normals).argmin(axis=1)]
+        t1 = np.cross(normals, least)
+        t1 /= np.linalg.norm(t1, axis=1, keepdims=True)
+        t2 = np.cross(normals, t1)
+    return np.stack([normals, t1, t2], axis=1)
+
+
 def _as_surface(surface) -> str:
     if isinstance(surface, (int, np.integer)) and not isinstance(surface, bool):
         check_range("surface", surface, 0, len(SURFACES) - 1)
@@ -141,7 +156,11 @@ class AnisotropicSofteningDamage(IsotropicElasticity):
     softening laws ``softening_I``/``softening_II`` (``"linear"``, ``"exponential"``); ``surface`` (name or the
     seed's number 0–3); ``plane`` (2D: normals in the x–y plane); ``relative_strength``/``relative_toughness``
     (r_s, r_t per point, e.g. from :class:`~.strength_statistics.StrengthStatistics`); ``residual_strain``
-    (Mandel, broadcast over the points); ``d_max`` caps every damage so the tangent keeps a trace of stiffness.
+    (Mandel, broadcast over the points); ``d_max`` caps every damage so the tangent keeps a trace of stiffness;
+    ``tangent``: ``"consistent"`` or ``"secant"`` ((I - D) C, always positive definite); ``crack_normal``: a
+    prescribed crack plane (unit normal, broadcast over the points) instead of the one the initiation law picks, for
+    a crack path known in advance (an interface, the ligament of a fracture specimen): the point then cracks when its
+    tractions on that plane leave the failure surface.
     """
 
     E: float
@@ -159,12 +178,22 @@ class AnisotropicSofteningDamage(IsotropicElasticity):
     relative_toughness: float | np.ndarray = 1.0
     residual_strain: np.ndarray | None = None
     d_max: float = 1.0 - 1e-9
+    tangent: str = "consistent"
+    crack_normal: np.ndarray | None = None
 
     def __post_init__(self):
         check_positive("E", self.E)
         for name in ("sigma_c", "tau_c", "G_Ic", "G_IIc"):
             object.__setattr__(self, name, check_positive(name, getattr(self, name)))
         object.__setattr__(self, "surface", _as_surface(self.surface))
+        check_option("tangent", self.tangent, ("consistent", "secant"))
+        if self.crack_normal is not None:
+            normal = check_shape("crack_normal", np.asarray(self.crack_normal, dtype=float), (..., 3))
+            length = np.linalg.norm(normal, axis=-1, keepdims=True)
+            check_positive("crack_normal length", length)
+            if self.plane and np.any(np.abs(normal[..., 2]) > 1e-12 * length[..., 0]):
+                raise ValueError("crack_normal must lie in the x-y plane when plane=True")
+            object.__setattr__(self, "crack_normal", normal / length)
         object.__setattr__(self, "law_I", softening_law(self.softening_I))
         object.__setattr__(self, "law_II", softening_law(self.softening_II))
         for name in ("relative_strength", "relative_toughness"):
@@ -248,6 +277,15 @@ class AnisotropicSofteningDamage(IsotropicElasticity):
         if self.plane:   # keep t2 = z out of plane, t1 in plane
             axes_tension = np.stack([v_max, v_min, v_mid], axis=1)
         return cracks, np.where(by_tension, axes_tension, axes_shear)
+
+    def initiation_on_plane(self, strain, normals, h, rs, rt) -> tuple[np.ndarray, np.ndarray]:
+        """Initiation on a prescribed crack plane (``crack_normal``): a point cracks when its tractions on that
+        plane leave the failure surface at zero damage; returns (cracks, axes) like :meth:`initiation`."""
+        axes = crack_axes(normals, self.plane)
+        local = np.einsum("mij,mj->mi", T.mandel_rotation(axes), strain)
+        zero = np.zeros((len(normals), 3))
+        d, _, _ = self._damage(local, zero, zero, h, rs, rt, derivatives=False)
+        return np.any(d > 0.0, axis=1), axes
 
     # ---- the traction failure surfaces -----------------------------------------------------------------------
     def _groups(self, e_n, g1, g2):
@@ -370,7 +408,11 @@ class AnisotropicSofteningDamage(IsotropicElasticity):
         initiated, axes, h = flat["initiated"], flat["axes"], flat["band_width"]
         fresh = np.flatnonzero(~initiated)
         if fresh.size:
-            cracks, new_axes = self.initiation(mech[fresh] @ self.stiffness, rs[fresh])
+            if self.crack_normal is None:
+                cracks, new_axes = self.initiation(mech[fresh] @ self.stiffness, rs[fresh])
+            else:
+                normals = np.broadcast_to(self.crack_normal, (*batch, 3)).reshape(n, 3)[fresh]
+                cracks, new_axes = self.initiation_on_plane(mech[fresh], normals, h[fresh], rs[fresh], rt[fresh])
             where = fresh[cracks]
             initiated[where], axes[where] = True, new_axes[cracks]
             if isinstance(self.band_width, ProjectedBandWidth) and where.size:
@@ -423,7 +465,7 @@ class AnisotropicSofteningDamage(IsotropicElasticity):
                        (1, 2): np.where(hyp[:, None] > 0.0,
                                         (g1[:, None] * unit5 + g2[:, None] * unit4) / hyp[:, None], 0.0)}
         for columns, grows, dfdd, dfde, modes in groups:
-            if not np.any(grows):
+            if self.tangent == "secant" or not np.any(grows):
                 continue
             dd_deps = -sum(dfde[k][:, None] * d_drive[cols] for k, (*_, cols) in enumerate(modes)) / dfdd[:, None]
             dd_deps[~grows] = 0.0
