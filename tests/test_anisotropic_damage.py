@@ -403,3 +403,17 @@ def test_shear_initiation_does_not_depend_on_pressure():
         assert abs(state["axes"][0] @ np.array([1.0, 0.0, 1.0]) / np.sqrt(2.0)) == pytest.approx(1.0)
         below = T.to_mandel(np.diag([0.99 * TAU_C, 0.0, -0.99 * TAU_C]) + pressure * np.eye(3))
         assert not m.update(m.initial_state(()), np.linalg.solve(m.stiffness, below)).state["initiated"]
+
+
+@pytest.mark.parametrize("surface, expected", [("cuboid", (0.8, 0.8, 0.9, 0.8)),
+                                               ("elliptical_cylinder", (0.8, 0.8, np.hypot(0.9, 0.9), 0.8)),
+                                               ("ovoid", (np.hypot(0.8, 0.8), 0.8, np.hypot(0.9, 0.9), 0.8)),
+                                               ("coupled_cuboid", (0.8, 0.8, 0.9, 0.8))])
+def test_traction_failure_surfaces_have_the_seeds_shapes(surface, expected):
+    """f at (T_n, T_1, T_2) = (0.8 sigma_c, 0.8 tau_c, 0), (-5 sigma_c, 0.8 tau_c, 0) (compression: the shear limit
+    alone), (0, 0.9 tau_c, 0.9 tau_c) and (0.8 sigma_c, 0, 0): rectangles, a circle in shear for the elliptical
+    cylinder and the ovoid, an ellipse in tension for the ovoid."""
+    m = material(surface)
+    points = np.array([[0.8 * SIGMA_C, 0.8 * TAU_C, 0.0], [-5 * SIGMA_C, 0.8 * TAU_C, 0.0],
+                       [0.0, 0.9 * TAU_C, 0.9 * TAU_C], [0.8 * SIGMA_C, 0.0, 0.0]])
+    np.testing.assert_allclose(m.traction_ratio(*points.T), expected, rtol=1e-12)

@@ -103,6 +103,7 @@ def test_statistics_feed_the_material_per_point():
 
 @pytest.mark.parametrize("options, match", [
     ({"distribution": "normal"}, "cv"), ({"distribution": "normal", "cv": MAX_NORMAL_CV}, "cv"),
+    ({"distribution": "normal", "cv": -0.1}, "cv"),
     ({"distribution": "weibull", "shape": 2.0}, "V0"), ({"distribution": "weibull", "shape": -1.0, "V0": 1.0}, "shape"),
     ({"distribution": "lognormal", "cv": 0.1}, "distribution"), ({"distribution": "normal", "cv": 0.1, "mode": 4},
                                                                   "mode"),

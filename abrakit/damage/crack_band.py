@@ -31,15 +31,20 @@ from ..validation import check_option, check_positive, check_range
 #: Seed 001's material on the steel specimens of Ch. 7 (E, nu of Table 7.1; MPa, N/mm). Seed 001 gives no numbers
 #: for a steel: sigma_c and tau_c are chosen so that the double notch peaks near Model I and II (about 10 kN),
 #: G_IIc = 2 G_Ic; the toughness G_Ic (N/mm) is the parameter of a run, as beta and alpha are for Model I and II.
-STEEL_SPECIMENS = {"E": 200000.0, "nu": 0.33, "sigma_c": 120.0, "tau_c": 80.0, "mode_II_ratio": 2.0}
+STEEL_SPECIMENS = {"E": 200000.0, "nu": 0.33, "sigma_c": 120.0, "tau_c": 80.0, "mode_II_ratio": 2.0,
+                   "surface": "ovoid"}
 
 
 def specimen_material(basis, toughness: float, **changes) -> AnisotropicSofteningDamage:
-    """:data:`STEEL_SPECIMENS` with ``G_Ic = toughness`` on a plane-strain basis, band width by projection."""
+    """:data:`STEEL_SPECIMENS` (updated by ``changes``, e.g. ``surface=0``) with ``G_Ic = toughness`` on a
+    plane-strain basis, band width by projection."""
+    unknown = set(changes) - set(STEEL_SPECIMENS)
+    if unknown:
+        raise ValueError(f"material option(s) {sorted(unknown)} unknown; choose from {sorted(STEEL_SPECIMENS)}")
     p = {**STEEL_SPECIMENS, **changes}
     return AnisotropicSofteningDamage(p["E"], p["nu"], p["sigma_c"], p["tau_c"], toughness,
                                       p["mode_II_ratio"] * toughness, band_width=projected_band_width(basis),
-                                      plane=True)
+                                      plane=True, surface=p["surface"])
 
 
 @dataclass(frozen=True)

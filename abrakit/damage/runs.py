@@ -60,7 +60,7 @@ class _Stop(Exception):
 
 def run_specimen(specimen: Specimen, model: str, parameter: float, *, step: float = 0.002,
                  stop_fraction: float | None = 0.1, gauge: tuple[float, float] | None = None,
-                 path: PathControl | None = None) -> SpecimenRun:
+                 path: PathControl | None = None, material_options: dict | None = None) -> SpecimenRun:
     """Load ``specimen`` to its ``displacement`` in equal increments ``step`` (mm) with Model I or Model II.
 
     ``model="II"``: :func:`abrakit.damage.model_two_fe.run_model_two` with ``alpha = parameter`` (Table 7.2).
@@ -73,6 +73,7 @@ def run_specimen(specimen: Specimen, model: str, parameter: float, *, step: floa
     exact for its secant unloading; ``path`` default: load steps of 10 ``step``, then G_Ic sqrt(A)/100 of
     dissipation per step, A the specimen's area), until ``stop_fraction`` of the peak. ``stiffness_loss`` is then
     the normal damage d_n, ``alpha_p`` zero, and ``dissipated`` the dissipation at every step.
+    ``material_options`` change :data:`~abrakit.damage.crack_band.STEEL_SPECIMENS` (e.g. ``{"surface": 0}``).
 
     ``gauge=(low, high)`` (mm, Model I only): follow the path instead
     (:class:`~abrakit.damage.model_one_path.ModelIPathFollowingSolver`, opening of the extensometer
@@ -80,8 +81,11 @@ def run_specimen(specimen: Specimen, model: str, parameter: float, *, step: floa
     first), through any snap-back, until ``stop_fraction`` of the peak.
     """
     check_option("model", model, MODELS)
+    if material_options and model != "anisotropic":
+        raise ValueError(f"material_options are for model='anisotropic', got model={model!r}")
     if model == "anisotropic":
-        return _crack_band(specimen, parameter, path, 10 * step / specimen.displacement, stop_fraction)
+        return _crack_band(specimen, parameter, path, 10 * step / specimen.displacement, stop_fraction,
+                           material_options or {})
     if gauge is not None and model != "I":
         raise ValueError(f"gauge: path following by a gauge opening is for Model I only, got model={model!r}")
     steps = max(1, int(round(specimen.displacement / check_positive("step", step))))
@@ -137,9 +141,9 @@ def _follow(specimen: Specimen, material, gauge, path: PathControl, stop_fractio
 
 
 def _crack_band(specimen: Specimen, toughness: float, path: PathControl | None, increment: float,
-                stop_fraction) -> SpecimenRun:
+                stop_fraction, options: dict) -> SpecimenRun:
     """Seed 001's model on ``specimen`` under dissipation-controlled path following (see :func:`run_specimen`)."""
-    material = specimen_material(specimen.basis, check_positive("parameter (G_Ic)", toughness))
+    material = specimen_material(specimen.basis, check_positive("parameter (G_Ic)", toughness), **options)
     area = mesh_area(specimen.plane_mesh)
     path = path or PathControl(initial=increment, maximum=increment, dissipation=toughness * np.sqrt(area) / 100,
                                max_steps=5000)

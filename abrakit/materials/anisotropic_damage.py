@@ -299,6 +299,17 @@ class AnisotropicSofteningDamage(IsotropicElasticity):
                 "ovoid": [([normal, both], "norm")],
                 "coupled_cuboid": [([normal, s1, s2], "max")]}[self.surface]
 
+    def traction_ratio(self, T_n, T_1, T_2=0.0) -> np.ndarray:
+        """The failure surface of an undamaged crack plane in traction space: the largest group ratio f for the
+        crack tractions ``T_n``, ``T_1``, ``T_2`` (MPa, broadcast); f = 1 on the surface, > 1 outside."""
+        T_n, T_1, T_2 = np.broadcast_arrays(*(np.asarray(t, dtype=float).ravel() for t in (T_n, T_1, T_2)))
+        e_n, g1, g2 = T_n / self.C11, T_1 / self.mu, T_2 / self.mu
+        m = len(e_n)
+        zero, ones = np.zeros(m), np.ones(m)
+        ratios = [self._ratio(zero, modes, combine, np.zeros((m, 3)), ones, ones, ones)
+                  for modes, combine in self._groups(e_n, g1, g2)]
+        return np.max(ratios, axis=0)
+
     def _ratio(self, d, modes, combine, delta_old, h, rs, rt):
         """The surface ratio f(d) of a group at damage ``d`` (m,), > 1 outside."""
         ratios = []

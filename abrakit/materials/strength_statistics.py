@@ -68,7 +68,9 @@ class StrengthStatistics:
 
     ``distribution``: ``"normal"`` (needs ``cv`` in (0, 0.3236)) or ``"weibull"`` (needs ``shape`` > 0 and the
     reference volume ``V0`` > 0 in the units of the point volumes). ``mode``: 1 strength, 2 toughness, 3 both.
-    ``seed`` makes the field reproducible.
+    ``seed`` makes the field reproducible. In a finite element model the point volumes are the quadrature
+    weights times the Jacobians, ``solver.kin.dx`` (shape (elements, points)), and the two arrays of
+    :meth:`sample` go to the material's ``relative_strength`` and ``relative_toughness``.
     """
 
     distribution: str = "normal"
