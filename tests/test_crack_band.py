@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 import skfem
 
-from abrakit.damage import CrackBandBar
+from abrakit.damage import CrackBandBar, metrics
 from abrakit.damage.crack_band import DoubleCantileverBeam
 from abrakit.fem import Dirichlet
 from abrakit.fem.kinematics import vector_basis
@@ -23,8 +23,7 @@ def run(solver, **options):
     return result, np.array([0.0, *dissipated])
 
 
-def external_work(v, F):
-    return float(np.sum(0.5 * (F[1:] + F[:-1]) * np.diff(v)))
+external_work = metrics.work
 
 
 @pytest.mark.parametrize("n", [1, 2, 8, 64])

@@ -23,10 +23,12 @@ import skfem
 from ..fem.boundary import Dirichlet
 from ..fem.kinematics import vector_basis
 from ..fem.pathfollow import PathFollowingSolver
+from ..fem.problems import element_opening, strip
 from ..fem.solver import Solver, StepControl
 from ..materials.anisotropic_damage import AnisotropicSofteningDamage, projected_band_width
 from ..materials.softening_laws import softening_law
 from ..validation import check_option, check_positive, check_range
+from . import metrics
 
 #: Seed 001's material on the steel specimens of Ch. 7 (E, nu of Table 7.1; MPa, N/mm). Seed 001 gives no numbers
 #: for a steel: sigma_c and tau_c are chosen so that the double notch peaks near Model I and II (about 10 kN),
@@ -115,12 +117,7 @@ class CrackBandBar:
         """A :class:`~abrakit.fem.pathfollow.PathFollowingSolver` (``follow=True``, steered by the weak element's
         opening) or a displacement-controlled :class:`~abrakit.fem.Solver`; the right end moves to
         ``displacement`` (default: past separation) at λ = 1 and its force is recorded as ``F_right``."""
-        x, unit = np.linspace(0.0, self.length, self.n + 1), np.array([0.0, 1.0])
-        mesh = (skfem.MeshQuad.init_tensor(x, unit) if self.dim == 2 else skfem.MeshHex.init_tensor(x, unit, unit))
-        faces = {"left": lambda p: np.isclose(p[0], 0.0), "right": lambda p: np.isclose(p[0], self.length),
-                 "bottom": lambda p: np.isclose(p[1], 0.0), "back": lambda p: np.isclose(p[-1], 0.0)}
-        mesh = mesh.with_boundaries(faces if self.dim == 3 else {k: v for k, v in faces.items() if k != "back"})
-        basis = vector_basis(mesh)
+        basis = vector_basis(strip(self.length, self.n, self.dim))
         material = self.material(basis)
         if displacement is None:
             displacement = 1.5 * float(self.softening_displacement(1e-3 * self.strength))
@@ -130,10 +127,7 @@ class CrackBandBar:
             conditions.append(Dirichlet.on(basis, "back", "z"))
         if not follow:
             return Solver(basis, material, conditions, **options)
-        nodes = mesh.t[:, self.n // 2]
-        at = mesh.p[0, nodes]
-        dofs = basis.nodal_dofs[0, nodes]
-        options.setdefault("opening", (dofs[np.isclose(at, at.max())], dofs[np.isclose(at, at.min())]))
+        options.setdefault("opening", element_opening(basis, self.n // 2))
         return PathFollowingSolver(basis, material, conditions, **options)
 
 
@@ -261,7 +255,7 @@ def demo() -> str:
         solver = bar.solver(follow=False, control=StepControl(initial=0.01, maximum=0.01))
         result = solver.run(progress=False)
         v, F = result.curves["u_right"], result.curves["F_right"]
-        work = float(np.sum(0.5 * (F[1:] + F[:-1]) * np.diff(v)))
+        work = metrics.work(v, F)
         lines.append(f"{n} element(s): peak {F.max():.4f} N (weak element's strength {bar.strength:g} N), "
                      f"work to separation {work:.5f} N mm against G_Ic A = {bar.fracture_energy:g} N mm "
                      f"({100 * (work / bar.fracture_energy - 1):+.3f} %)")

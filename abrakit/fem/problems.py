@@ -153,6 +153,27 @@ def kirsch_stress(x, y, *, remote_stress, radius):
             (s_rr - s_tt) * sn * c + s_rt * (c * c - sn * sn))
 
 
+def strip(length: float, n: int, dim: int = 2) -> skfem.Mesh:
+    """A bar ``length`` × 1 (× 1 in 3D) mm of ``n`` bilinear (trilinear) elements along x, with the boundaries
+    ``left`` (x = 0), ``right`` (x = length), ``bottom`` (y = 0) and, in 3D, ``back`` (z = 0)."""
+    x, unit = np.linspace(0.0, length, n + 1), np.array([0.0, 1.0])
+    mesh = skfem.MeshQuad.init_tensor(x, unit) if dim == 2 else skfem.MeshHex.init_tensor(x, unit, unit)
+    faces = {"left": lambda p: np.isclose(p[0], 0.0), "right": lambda p: np.isclose(p[0], length),
+             "bottom": lambda p: np.isclose(p[1], 0.0)}
+    if dim == 3:
+        faces["back"] = lambda p: np.isclose(p[2], 0.0)
+    return mesh.with_boundaries(faces)
+
+
+def element_opening(basis, element: int) -> tuple[np.ndarray, np.ndarray]:
+    """(x-DOFs of the element's right nodes, of its left nodes): its opening, for path following by opening."""
+    mesh = basis.mesh
+    nodes = mesh.t[:, element]
+    x = mesh.p[0, nodes]
+    dofs = basis.nodal_dofs[0, nodes]
+    return dofs[np.isclose(x, x.max())], dofs[np.isclose(x, x.min())]
+
+
 @dataclass(frozen=True)
 class SofteningBar:
     """A bar of ``n`` elements, length ``length`` (mm), unit cross-section, pulled at its right end, with the
@@ -236,10 +257,7 @@ class SofteningBar:
         from ..materials.softening import LinearSofteningDamage
         from .pathfollow import PathFollowingSolver
 
-        mesh = skfem.MeshQuad.init_tensor(np.linspace(0.0, self.length, self.n + 1), np.array([0.0, 1.0]))
-        mesh = mesh.with_boundaries({"left": lambda x: np.isclose(x[0], 0.0),
-                                     "right": lambda x: np.isclose(x[0], self.length),
-                                     "bottom": lambda x: np.isclose(x[1], 0.0)})
+        mesh = strip(self.length, self.n)
         basis = vector_basis(mesh)
         weak = np.zeros(mesh.nelements, bool)
         weak[self.n // 2] = True
@@ -256,8 +274,5 @@ class SofteningBar:
                            monitors={"right": basis.get_dofs("right").nodal["u^1"]})
         if not follow:
             return Solver(basis, material, conditions, **options)
-        nodes = mesh.t[:, self.n // 2]                              # the weak element's opening: right − left
-        x = mesh.p[0, nodes]
-        dofs = basis.nodal_dofs[0, nodes]
-        options.setdefault("opening", (dofs[np.isclose(x, x.max())], dofs[np.isclose(x, x.min())]))
+        options.setdefault("opening", element_opening(basis, self.n // 2))    # the weak element's: right − left
         return PathFollowingSolver(basis, material, conditions, **options)
