@@ -195,8 +195,9 @@ def _anisotropic(results: Path) -> list[Claim]:
                     f"G_Ic within {worst:.2%}", f"≤ {worst:.2%}", _verdict(worst), "anisotropic_damage")]
     dcb = [r for r in data["rows"] if r["study"] == "dcb"]
     if dcb:
-        finest = min(dcb, key=lambda r: (r["size"], -float(r["case"].split()[2])))
-        claims.append(Claim("seed 001 (Nairn 2018)", f"DCB propagation force against LEFM ({finest['case']})",
+        finest = min(dcb, key=lambda r: (r["size"], float(r["case"].split()[2])))   # finest mesh, widest zone
+        claims.append(Claim("seed 001 (Nairn 2018)", f"DCB propagation force against LEFM ({finest['case']}: the "
+                            "finest mesh, the best-resolved process zone)",
                             "damage = fracture mechanics with the right parameters",
                             f"{finest['error_pct']:+.1f} % mean above LEFM", f"{finest['error_pct']:+.1f} %",
                             _verdict(finest["error_pct"] / 100), "anisotropic_damage"))
