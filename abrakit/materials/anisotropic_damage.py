@@ -409,11 +409,9 @@ class AnisotropicSofteningDamage(IsotropicElasticity):
         eps = check_strain(eps)
         batch = eps.shape[:-1]
         n = int(np.prod(batch))
-        flat = {key: np.broadcast_to(value, (*batch, *np.shape(value)[len(np.shape(value)) - len(tail):]))
-                .reshape(n, *tail).copy()
-                for key, value, tail in ((k, v, _TAILS[k]) for k, v in state.items())}
-        mech = self._mechanical(eps).reshape(n, 6) if self.residual_strain is None else \
-            np.broadcast_to(self._mechanical(eps), (*batch, 6)).reshape(n, 6)
+        flat = {key: np.broadcast_to(value, (*batch, *_TAILS[key])).reshape(n, *_TAILS[key]).copy()
+                for key, value in state.items()}
+        mech = np.broadcast_to(self._mechanical(eps), (*batch, 6)).reshape(n, 6)
         rs = np.broadcast_to(self.relative_strength, batch).reshape(n)
         rt = np.broadcast_to(self.relative_toughness, batch).reshape(n)
         initiated, axes, h = flat["initiated"], flat["axes"], flat["band_width"]
