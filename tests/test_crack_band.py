@@ -166,3 +166,16 @@ def test_run_specimen_refuses_a_bad_toughness():
 
     with pytest.raises(ValueError, match="G_Ic"):
         run_specimen(specimen("sharp_notch", 300), "anisotropic", -1.0)
+
+
+def test_band_on_a_symmetry_line_counts_twice():
+    """projected_band_width(basis, mirror_y=True): the elements with an edge on y = 0 hold half of a band that the
+    mirror image completes, so their width doubles (a half model then dissipates half of G_Ic A, as it should)."""
+    mesh = skfem.MeshQuad.init_tensor(np.array([0.0, 1.0, 2.0]), np.array([0.0, 0.5, 1.5]))
+    basis = vector_basis(mesh)
+    band = projected_band_width(basis, mirror_y=True)
+    normals = np.tile([0.0, 1.0, 0.0], (mesh.nelements * basis.X.shape[-1], 1))
+    width = band.width(normals, np.arange(len(normals)), (mesh.nelements, basis.X.shape[-1]))
+    bottom = mesh.p[1, mesh.t].min(axis=0) == 0.0
+    expected = np.where(bottom, 2 * 0.5, 1.0)[:, None] * np.ones((1, basis.X.shape[-1]))
+    np.testing.assert_allclose(width, expected.ravel())

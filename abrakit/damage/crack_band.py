@@ -37,16 +37,17 @@ STEEL_SPECIMENS = {"E": 200000.0, "nu": 0.33, "sigma_c": 120.0, "tau_c": 80.0, "
                    "surface": "ovoid"}
 
 
-def specimen_material(basis, toughness: float, **changes) -> AnisotropicSofteningDamage:
+def specimen_material(basis, toughness: float, mirror_y: bool = False, **changes) -> AnisotropicSofteningDamage:
     """:data:`STEEL_SPECIMENS` (updated by ``changes``, e.g. ``surface=0``) with ``G_Ic = toughness`` on a
-    plane-strain basis, band width by projection."""
+    plane-strain basis, band width by projection (doubled on the symmetry line y = 0 with ``mirror_y``)."""
     unknown = set(changes) - set(STEEL_SPECIMENS)
     if unknown:
         raise ValueError(f"material option(s) {sorted(unknown)} unknown; choose from {sorted(STEEL_SPECIMENS)}")
     p = {**STEEL_SPECIMENS, **changes}
     return AnisotropicSofteningDamage(p["E"], p["nu"], p["sigma_c"], p["tau_c"], toughness,
-                                      p["mode_II_ratio"] * toughness, band_width=projected_band_width(basis),
-                                      plane=True, surface=p["surface"])
+                                      p["mode_II_ratio"] * toughness,
+                                      band_width=projected_band_width(basis, mirror_y), plane=True,
+                                      surface=p["surface"])
 
 
 @dataclass(frozen=True)

@@ -143,7 +143,8 @@ def _follow(specimen: Specimen, material, gauge, path: PathControl, stop_fractio
 def _crack_band(specimen: Specimen, toughness: float, path: PathControl | None, increment: float,
                 stop_fraction, options: dict) -> SpecimenRun:
     """Seed 001's model on ``specimen`` under dissipation-controlled path following (see :func:`run_specimen`)."""
-    material = specimen_material(specimen.basis, check_positive("parameter (G_Ic)", toughness), **options)
+    material = specimen_material(specimen.basis, check_positive("parameter (G_Ic)", toughness),
+                                 mirror_y=specimen.band_mirror == 2, **options)      # band on a symmetry line
     area = mesh_area(specimen.plane_mesh)
     path = path or PathControl(initial=increment, maximum=increment, dissipation=toughness * np.sqrt(area) / 100,
                                max_steps=5000)

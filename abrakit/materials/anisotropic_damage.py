@@ -106,23 +106,31 @@ class ProjectedBandWidth:
     point cracks (Oliver 1989). ``vertices`` (..., n_vertices, dim): the element corners of every point."""
 
     vertices: np.ndarray
+    factor: float | np.ndarray = 1.0
 
     def width(self, normals: np.ndarray, where, batch: tuple[int, ...]) -> np.ndarray:
-        """Width of the points ``where`` (flat indices into the batch ``batch``) for their ``normals`` (m, 3)."""
+        """Width of the points ``where`` (flat indices into the batch ``batch``) for their ``normals`` (m, 3),
+        times ``factor`` (e.g. 2 on a symmetry line, where the model holds half of the band)."""
         vertices = np.asarray(self.vertices)
         corners = np.broadcast_to(vertices, (*batch, *vertices.shape[-2:])).reshape(-1, *vertices.shape[-2:])[where]
         dim = corners.shape[-1]
         along = np.einsum("mvd,md->mv", corners, normals[:, :dim])
-        return along.max(axis=-1) - along.min(axis=-1)
+        factor = np.broadcast_to(self.factor, batch).reshape(-1)[where]
+        return factor * (along.max(axis=-1) - along.min(axis=-1))
 
 
-def projected_band_width(basis) -> ProjectedBandWidth:
+def projected_band_width(basis, mirror_y: bool = False) -> ProjectedBandWidth:
     """:class:`ProjectedBandWidth` of every quadrature point of a scikit-fem basis (element corners = the mesh's
-    vertices of each element)."""
+    vertices of each element). ``mirror_y``: the line y = 0 is a symmetry line, so the elements with an edge on it
+    hold half of a band that the mirror image completes; their width counts twice."""
     mesh = basis.mesh
     corners = mesh.p[:, mesh.t].transpose(2, 1, 0)                          # (nel, n_vertices, dim)
     nqp = basis.X.shape[-1]
-    return ProjectedBandWidth(np.broadcast_to(corners[:, None], (corners.shape[0], nqp, *corners.shape[1:])))
+    factor = 1.0
+    if mirror_y:
+        on_line = np.sum(np.isclose(corners[:, :, 1], 0.0), axis=1) >= 2
+        factor = np.where(on_line, 2.0, 1.0)[:, None] * np.ones((1, nqp))
+    return ProjectedBandWidth(np.broadcast_to(corners[:, None], (corners.shape[0], nqp, *corners.shape[1:])), factor)
 
 
 def crack_axes(normals: np.ndarray, plane: bool) -> np.ndarray:
