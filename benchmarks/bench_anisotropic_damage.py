@@ -207,7 +207,7 @@ def surface_study(rows, outdir: Path) -> dict:
                               "peak_error_pct": 100 * (r["peak"] / finest["peak"] - 1),
                               "dissipated_error_pct": 100 * (r["dissipated"] / finest["dissipated"] - 1)}
                              for r in group]
-    levels = sorted({r["case"].split()[1] for r in study})
+    levels = sorted({r["case"].split()[1] for r in study}, key=int)
     cost = {}
     for level in levels:
         cost[level] = {"anisotropic (ovoid)": next((r["seconds_per_step"] for r in study
