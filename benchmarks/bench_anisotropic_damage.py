@@ -247,7 +247,8 @@ def plot(rows, curves, path):
     for k, r in enumerate(r for r in rows if r["study"] == "specimen"):
         u, F, _ = curves[r["case"]]
         cx.plot(u, np.asarray(F) / 1000, color=f"C{k}", label=f"{r['case']} ({r['elements']} el.)")
-    cx.set(xlabel="u (mm)", ylabel="F (kN)", title=f"Ch. 7 specimens, G_Ic = {TOUGHNESS:g} N/mm")
+    cx.set(xlabel="u (mm)", ylabel="F (kN)", xlim=(0.0, 0.6),
+           title=f"Ch. 7 specimens, G_Ic = {TOUGHNESS:g} N/mm (locked bands run on beyond)")
     cx.legend(fontsize=7)
     dx = axes[3]
     study = [r for r in rows if r["study"] == "surface"]
