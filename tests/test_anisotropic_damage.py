@@ -278,6 +278,9 @@ def test_softening_law_area_is_the_toughness_and_its_band_limit_its_steepest_slo
         part, _ = quad(lambda x: f.traction(x, strength, toughness), 0.0, delta)
         assert f.energy(delta, strength, toughness) == pytest.approx(part, rel=1e-9)
     assert f.traction(0.0, strength, toughness) == strength
+    delta = np.array([0.0, 0.01, 0.05, 0.1])
+    np.testing.assert_allclose(f.opening(f.traction(delta, strength, toughness), strength, toughness), delta,
+                               atol=1e-12)
     slope = (f.traction(1e-9, strength, toughness) - strength) / 1e-9
     assert max_band_width(f, 100.0, strength, toughness) == pytest.approx(100.0 / -slope, rel=1e-6)
 

@@ -92,18 +92,13 @@ class CrackBandBar:
     def softening_displacement(self, force):
         """v(F) on the softening branch (mm): L F/E + delta(F)."""
         force = np.asarray(force, dtype=float)
-        law = softening_law(self.softening)
-        delta_c = law.failure_opening(self.strength, self.G_Ic)
-        if self.softening == "linear":
-            delta = delta_c * (1.0 - force / self.strength)
-        else:
-            delta = -self.G_Ic / self.strength * np.log(force / self.strength)
+        delta = softening_law(self.softening).opening(force, self.strength, self.G_Ic)
         return self.length * force / self.E + delta
 
     @property
     def snaps_back(self) -> bool:
-        return self.length / self.E > 2.0 * self.G_Ic / self.strength ** 2 * (self.softening == "linear") + (
-            self.G_Ic / self.strength ** 2 * (self.softening == "exponential"))
+        """dv/dF > 0 just after the peak: L/E > max|dδ/dS| = k G_Ic/σ_w² (k = 2 linear, 1 exponential)."""
+        return self.length / self.E > softening_law(self.softening).band_factor * self.G_Ic / self.strength**2
 
     def material(self, basis) -> AnisotropicSofteningDamage:
         nqp = basis.X.shape[-1]

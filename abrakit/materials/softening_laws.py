@@ -45,6 +45,10 @@ class LinearSoftening:
         """``S(delta)`` (MPa)."""
         return np.asarray(strength) * np.clip(1.0 - delta / self.failure_opening(strength, toughness), 0.0, None)
 
+    def opening(self, traction, strength, toughness):
+        """The opening at which the law carries ``traction`` (0 < traction <= strength), the inverse of S."""
+        return self.failure_opening(strength, toughness) * (1.0 - np.asarray(traction) / np.asarray(strength))
+
     def energy(self, delta, strength, toughness):
         """``integral_0^delta S`` (N/mm): the toughness spent on the way to ``delta``."""
         delta_c = self.failure_opening(strength, toughness)
@@ -67,6 +71,10 @@ class ExponentialSoftening:
     def traction(self, delta, strength, toughness):
         strength = np.asarray(strength)
         return strength * np.exp(-strength * delta / np.asarray(toughness))
+
+    def opening(self, traction, strength, toughness):
+        strength = np.asarray(strength)
+        return -np.asarray(toughness) / strength * np.log(np.asarray(traction) / strength)
 
     def energy(self, delta, strength, toughness):
         strength, toughness = np.asarray(strength), np.asarray(toughness)
