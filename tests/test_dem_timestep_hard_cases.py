@@ -16,6 +16,7 @@ from abrakit.dem import (
     critical_time_step,
     energy_balance,
 )
+from abrakit.dem.simulation import MAX_TRAVEL
 
 
 def resting_sphere(**kw):
@@ -222,3 +223,55 @@ def test_deep_initial_overlap_is_announced_with_the_speed_it_releases():
         from abrakit.dem import dense_packing
 
         dense_packing(64)                                               # 0.5 % overlaps: no warning
+
+
+def _head_on(speed, overlap_fraction=0.3, dt=None, **options):
+    """Sphere 1 flies at ``speed`` onto sphere 0 (both free, r = 1 cm); the spring is stiff enough to stop the pair
+    at an overlap of ``overlap_fraction`` r (½ m* v² = ½ K U²)."""
+    r = 0.01
+    p = Particles.spheres([[0.0, 0.0, 0.0], [0.1, 0.0, 0.0]], r, 2650.0, v=[[0, 0, 0], [-speed, 0, 0]])
+    m_star = p.mass[0] / 2
+    K = m_star * speed**2 / (overlap_fraction * r) ** 2
+    p = Particles.spheres(p.x, r, 2650.0, v=p.v, kn=2 * K)
+    return p, Simulation(p, skin=r, dt=dt, domain=((-5, -1, -1), (5, 1, 1)), track_energy=False, **options)
+
+
+@pytest.mark.parametrize("speed", [100.0, 1000.0])
+def test_a_fast_particle_neither_tunnels_nor_gains_energy(speed):
+    """The automatic step keeps the fastest particle below a quarter of the smallest radius per step, so the
+    contact is seen and resolved: the pair rebounds (sphere 1 comes back, it never passes sphere 0) and the overlap
+    never exceeds half a radius. The relative speed after the elastic impact equals the one before to 2 %: with
+    Δt = 0.8 Δt_crit a linear contact lasts about four steps, and the leap-frog's error at its start and end does
+    not depend on the speed (ω Δt is the same), so a fast impact gains no more than a slow one."""
+    p, sim = _head_on(speed)
+    largest = 0.0
+    for _ in range(4000):
+        sim.step()
+        largest = max(largest, 0.02 - abs(p.x[1, 0] - p.x[0, 0]))
+        if p.v[1, 0] - p.v[0, 0] > 0 and p.x[1, 0] - p.x[0, 0] > 0.03:
+            break
+    assert sim.dt <= MAX_TRAVEL * 0.01 / speed * (1 + 1e-9)
+    assert p.x[1, 0] > p.x[0, 0]                                           # on its own side: no tunnelling
+    assert p.v[1, 0] - p.v[0, 0] == pytest.approx(speed, rel=2e-2)         # rebound, within the step's error
+    assert largest < 0.5 * 0.01
+
+
+def test_a_fixed_step_too_long_for_the_fastest_particle_is_refused():
+    """A fixed step in which a 1000 m/s sphere would travel a whole radius: refused by name, or reduced to the
+    travel limit with a warning (dt_policy="reduce")."""
+    with pytest.raises(TimeStepError, match="fastest particle"):
+        _head_on(1000.0, dt=1e-5)
+    with pytest.warns(RuntimeWarning, match="fastest particle"):
+        _, sim = _head_on(1000.0, dt=1e-5, dt_policy="reduce")
+    assert sim.dt <= MAX_TRAVEL * 0.01 / 1000.0 * (1 + 1e-9)
+
+
+def test_hertz_impact_at_high_speed_keeps_the_travel_limit():
+    """Hertz contacts stiffen with the overlap, and before the impact Δt_crit is estimated at 1 % overlap: at
+    3000 m/s the travel limit, not Δt_crit, sets the first step (a quarter radius, not more)."""
+    r = 0.01
+    p = Particles.spheres([[0.0, 0.0, 0.0], [0.1, 0.0, 0.0]], r, 2650.0, v=[[0, 0, 0], [-3000.0, 0, 0]])
+    sim = Simulation(p, law=HertzMindlin(), skin=r, domain=((-5, -1, -1), (5, 1, 1)), track_energy=False)
+    sim.step()
+    assert sim.dt == pytest.approx(MAX_TRAVEL * r / 3000.0, rel=1e-9)
+    assert sim.dt < sim.safety * sim.critical_time_step()

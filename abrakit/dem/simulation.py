@@ -10,7 +10,9 @@ Time step. ``dt=None`` (default) chooses Δt = ``safety`` · Δt_crit and re-eva
 is rebuilt (contacts appear, Hertz contacts stiffen). A user-given ``dt`` above Δt_crit is refused with a
 :class:`TimeStepError` (``dt_policy="raise"``) or replaced by ``safety`` · Δt_crit with a warning
 (``dt_policy="reduce"``); it is never run silently unstable. ``dt_policy="allow"`` keeps it, with one warning: for
-studying the instability itself (the exercise of the DEM chapter).
+studying the instability itself (the exercise of the DEM chapter). Δt is also kept below the time in which the
+fastest particle travels a quarter of the smallest radius (:meth:`Simulation.travel_time_step`), re-checked at every
+rebuild: a 1000 m/s particle would otherwise step over a sphere without touching it.
 """
 
 from __future__ import annotations
@@ -33,6 +35,9 @@ from abrakit.io import progress_bar
 from abrakit.validation import check_finite, check_option, check_positive, check_range
 
 __all__ = ["EnergyAccount", "ParticleEscapeError", "Simulation", "TimeStepError"]
+
+#: Largest distance a particle may travel in one step, as a fraction of the smallest radius (automatic Δt).
+MAX_TRAVEL = 0.25
 
 
 class TimeStepError(ValueError):
@@ -620,11 +625,35 @@ class Simulation:
         k_r = np.maximum(particle_stiffness(n, springs_r), kt * p.radius**2)
         return critical_time_step(p.mass, p.inertia, k_t, k_r, movable=~p.fixed)
 
+    def travel_time_step(self) -> float:
+        """Δt at which the fastest particle moves :data:`MAX_TRAVEL` of the smallest radius (surface speed of its
+        spin included) [s], ``inf`` at rest: a contact is then seen before the pair overlaps by more than that, so a
+        fast particle cannot step over another one without touching it (tunnelling)."""
+        p = self.particles
+        movable = ~p.fixed
+        if not movable.any():
+            return np.inf
+        speed = np.sqrt(rowdot(p.v[movable], p.v[movable])) + np.sqrt(rowdot(p.w[movable], p.w[movable])) \
+            * p.radius[movable]
+        fastest = float(speed.max())
+        return np.inf if fastest == 0.0 else MAX_TRAVEL * float(p.radius.min()) / fastest
+
     def update_time_step(self) -> float:
-        """Apply the time-step policy after the contact set changed; returns Δt_crit."""
+        """Apply the time-step policy after the contact set changed; returns Δt_crit. The step is also kept below
+        :meth:`travel_time_step` (a fast particle would otherwise cross a contact zone in one step)."""
         dt_crit = self.critical_time_step()
+        dt_travel = self.travel_time_step()
         if self.auto_dt:
-            self._dt = self.safety * dt_crit
+            self._dt = min(self.safety * dt_crit, dt_travel)
+        elif self._dt > dt_travel and dt_travel < dt_crit:
+            if self.dt_policy == "raise":
+                raise TimeStepError(
+                    f"dt = {self._dt:.4g} s lets the fastest particle move more than {MAX_TRAVEL:g} of the smallest "
+                    f"radius per step (use dt <= {dt_travel:.4g} s, dt=None (automatic) or dt_policy='reduce')")
+            if self.dt_policy == "reduce":
+                warnings.warn(f"dt = {self._dt:.4g} s lets the fastest particle move more than {MAX_TRAVEL:g} of the "
+                              f"smallest radius per step; reduced to {dt_travel:.4g} s", RuntimeWarning, stacklevel=3)
+                self._dt = dt_travel
         elif self._dt > dt_crit:
             if self.dt_policy == "raise":
                 raise TimeStepError(
