@@ -155,3 +155,18 @@ def test_dask_local_cluster_runs_and_resumes_the_same_sweep(tmp_path):
                               scheduler_address=client)
     assert [r["resumed"] for r in again] == [True] * 4 + [False]
     assert calls(tmp_path) == sorted(2 * list(range(4)) + [4])
+
+
+def test_load_sweep_names_a_truncated_file_and_skips_stray_json(tmp_path):
+    """A case file cut short (a killed writer on a file system without atomic rename) is named in the error; a JSON
+    file that is not a case record (a summary someone saved beside the cases) is skipped with a warning."""
+    out = tmp_path / "out"
+    params = sweep(tmp_path, 2)
+    run_sweep(polynomial_case, params, out, backend="serial")
+    (out / "notes.json").write_text(json.dumps({"comment": "not a case"}))
+    with pytest.warns(RuntimeWarning, match="notes.json is not a sweep record"):
+        assert len(load_sweep(out)) == 2
+    truncated = out / f"{case_key(params[1])}.json"
+    truncated.write_text(truncated.read_text()[:25])
+    with pytest.raises(ValueError, match=f"{truncated.name} is not valid JSON"):
+        load_sweep(out)

@@ -40,6 +40,7 @@ import re
 import socket
 import time
 import traceback
+import warnings
 from collections.abc import Callable, Iterable, Mapping
 from datetime import datetime, timezone
 from pathlib import Path
@@ -121,12 +122,25 @@ def _finished(path: Path, canonical: str) -> dict | None:
 
 
 def load_sweep(results_dir) -> list[dict]:
-    """All finished records in ``results_dir`` (sorted by key); failed and temporary files are skipped."""
+    """All finished records in ``results_dir`` (sorted by key). Failed and temporary files are skipped, and so is
+    stray JSON that is not a case record (no ``key``, ``params`` and ``result``), with a warning naming it; a file
+    that is not valid JSON (truncated) raises ``ValueError`` naming it."""
     directory = Path(results_dir)
     if not directory.is_dir():
         return []
-    paths = sorted(p for p in directory.glob("*.json") if not p.name.endswith(".failed.json"))
-    return [read_json(p) for p in paths]
+    records = []
+    for path in sorted(p for p in directory.glob("*.json") if not p.name.endswith(".failed.json")):
+        try:
+            record = read_json(path)
+        except ValueError as exc:
+            raise ValueError(f"{path} is not valid JSON (truncated or overwritten?): {exc}; delete it and rerun the "
+                             "sweep to recompute that case") from exc
+        if not (isinstance(record, dict) and {"key", "params", "result"} <= set(record)):
+            warnings.warn(f"{path} is not a sweep record (no key, params and result): skipped", RuntimeWarning,
+                          stacklevel=2)
+            continue
+        records.append(record)
+    return records
 
 
 def _map_serial(case_fn, jobs, catch, n_jobs, scheduler_address):
