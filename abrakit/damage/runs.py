@@ -18,6 +18,7 @@ from ..fem.solver import StepFailed
 from ..materials import TABLE_7_1, ModelIDamage
 from ..validation import check_option, check_positive
 from .crack_band import specimen_material
+from .metrics import element_areas
 from .model_one_fe import ModelISolver
 from .model_one_path import ModelIPathFollowingSolver
 from .model_two_fe import run_model_two
@@ -145,7 +146,7 @@ def _crack_band(specimen: Specimen, toughness: float, path: PathControl | None, 
     """Seed 001's model on ``specimen`` under dissipation-controlled path following (see :func:`run_specimen`)."""
     material = specimen_material(specimen.basis, check_positive("parameter (G_Ic)", toughness),
                                  mirror_y=specimen.band_mirror == 2, **options)      # band on a symmetry line
-    area = mesh_area(specimen.plane_mesh)
+    area = float(element_areas(specimen.plane_mesh).sum())
     path = path or PathControl(initial=increment, maximum=increment, dissipation=toughness * np.sqrt(area) / 100,
                                max_steps=5000)
     solver = PathFollowingSolver(specimen.basis, material, specimen.dirichlet, path=path)
@@ -165,8 +166,3 @@ def _crack_band(specimen: Specimen, toughness: float, path: PathControl | None, 
                        int(res.cutbacks), time.perf_counter() - tic, res,
                        specimen.force_scale * np.array(dissipated))
 
-
-def mesh_area(mesh) -> float:
-    """Area of a 2D mesh of polygons (mm²): the shoelace formula on every element's corners."""
-    x, y = mesh.p[0, mesh.t], mesh.p[1, mesh.t]
-    return float(0.5 * np.abs(np.sum(x * np.roll(y, -1, axis=0) - np.roll(x, -1, axis=0) * y, axis=0)).sum())
