@@ -455,13 +455,13 @@ class AnisotropicSofteningDamage(IsotropicElasticity):
         new_state = {key: value.reshape((*batch, *_TAILS[key])) for key, value in flat.items()}
         return MaterialResponse(stress.reshape((*batch, 6)), tangent.reshape((*batch, 6, 6)), new_state)
 
-    def _crack_response(self, local, local_old, d_old, delta_old, h, rs, rt):
-        """Stress, tangent, damage, openings and dissipation (mode I, mode II) in crack axes (all (m, ...))."""
+    def _secant(self, local, d):
+        """Stress (I - D) C eps and the secant (I - D) C in crack axes (Eq. AD.1, AD.2) for the damages ``d``
+        (m, 3); d_n acts only while the crack is open. Also returns sigma_e = C eps, the opening flags and the
+        Poisson row ``a`` of D."""
         C, a = self.stiffness, np.array([1.0, self.nu_ratio, self.nu_ratio, 0.0, 0.0, 0.0])
         sig_e = local @ C
-        e_n, g1, g2 = self._drives(local)
-        d, delta, groups = self._damage(local, d_old, delta_old, h, rs, rt)
-        opened = e_n > 0.0
+        opened = self._drives(local)[0] > 0.0
         d_n = np.where(opened, d[:, 0], 0.0)
         stress = sig_e.copy()
         stress -= (d_n * sig_e[:, 0])[:, None] * a
@@ -471,6 +471,13 @@ class AnisotropicSofteningDamage(IsotropicElasticity):
         tangent -= d_n[:, None, None] * a[None, :, None] * C[0][None, None, :]
         tangent[:, 5] *= (1.0 - d[:, 1])[:, None]
         tangent[:, 4] *= (1.0 - d[:, 2])[:, None]
+        return stress, tangent, sig_e, opened, a
+
+    def _crack_response(self, local, local_old, d_old, delta_old, h, rs, rt):
+        """Stress, tangent, damage, openings and dissipation (mode I, mode II) in crack axes (all (m, ...))."""
+        _, g1, g2 = self._drives(local)
+        d, delta, groups = self._damage(local, d_old, delta_old, h, rs, rt)
+        stress, tangent, sig_e, opened, a = self._secant(local, d)
         # consistent part: (d sigma/d d_k) (x) (dd/d eps) for the groups that damaged
         unit5, unit4 = np.eye(6)[5] * _SQRT2, np.eye(6)[4] * _SQRT2
         dsig_dd = {0: -np.where(opened, sig_e[:, 0], 0.0)[:, None] * a,
@@ -493,9 +500,19 @@ class AnisotropicSofteningDamage(IsotropicElasticity):
 
     # ---- energies --------------------------------------------------------------------------------------------
     def stored_energy(self, state) -> np.ndarray:
-        """``1/2 (eps - eps_res) : sigma`` (MPa): the secant energy of the damaged material."""
+        """``1/2 (eps - eps_res) : sigma`` (MPa): the secant energy of the damaged material, with the stress of the
+        state's own damage (:meth:`_secant`; no update, so nothing initiates or grows)."""
         eps = np.asarray(state["eps"])
-        return 0.5 * np.sum(self._mechanical(eps) * self.update(state, eps).stress, axis=-1)
+        batch = eps.shape[:-1]
+        mech = np.broadcast_to(self._mechanical(eps), (*batch, 6)).reshape(-1, 6)
+        stress = mech @ self.stiffness
+        cracked = np.flatnonzero(np.reshape(state["initiated"], -1))
+        if cracked.size:
+            R = T.mandel_rotation(np.reshape(state["axes"], (-1, 3, 3))[cracked])
+            local = np.einsum("mij,mj->mi", R, mech[cracked])
+            local_stress = self._secant(local, np.reshape(state["d"], (-1, 3))[cracked])[0]
+            stress[cracked] = np.einsum("mji,mj->mi", R, local_stress)
+        return 0.5 * np.sum(mech * stress, axis=-1).reshape(batch)
 
     def dissipation(self, state) -> np.ndarray:
         """Energy dissipated per volume so far (MPa), mode I plus mode II."""
