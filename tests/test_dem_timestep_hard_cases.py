@@ -264,6 +264,9 @@ def test_a_fixed_step_too_long_for_the_fastest_particle_is_refused():
     with pytest.warns(RuntimeWarning, match="fastest particle"):
         _, sim = _head_on(1000.0, dt=1e-5, dt_policy="reduce")
     assert sim.dt <= MAX_TRAVEL * 0.01 / 1000.0 * (1 + 1e-9)
+    with pytest.warns(RuntimeWarning, match="exceeds the critical time step .* is kept"):   # 'allow' keeps it,
+        _, sim = _head_on(1000.0, dt=1e-5, dt_policy="allow")                          # warning as before
+    assert sim.dt == 1e-5
 
 
 def test_hertz_impact_at_high_speed_keeps_the_travel_limit():

@@ -645,15 +645,14 @@ class Simulation:
         dt_travel = self.travel_time_step()
         if self.auto_dt:
             self._dt = min(self.safety * dt_crit, dt_travel)
-        elif self._dt > dt_travel and dt_travel < dt_crit:
+        elif self._dt > dt_travel and dt_travel < dt_crit and self.dt_policy != "allow":
             if self.dt_policy == "raise":
                 raise TimeStepError(
                     f"dt = {self._dt:.4g} s lets the fastest particle move more than {MAX_TRAVEL:g} of the smallest "
                     f"radius per step (use dt <= {dt_travel:.4g} s, dt=None (automatic) or dt_policy='reduce')")
-            if self.dt_policy == "reduce":
-                warnings.warn(f"dt = {self._dt:.4g} s lets the fastest particle move more than {MAX_TRAVEL:g} of the "
-                              f"smallest radius per step; reduced to {dt_travel:.4g} s", RuntimeWarning, stacklevel=3)
-                self._dt = dt_travel
+            warnings.warn(f"dt = {self._dt:.4g} s lets the fastest particle move more than {MAX_TRAVEL:g} of the "
+                          f"smallest radius per step; reduced to {dt_travel:.4g} s", RuntimeWarning, stacklevel=3)
+            self._dt = dt_travel
         elif self._dt > dt_crit:
             if self.dt_policy == "raise":
                 raise TimeStepError(
