@@ -174,6 +174,16 @@ class VtuSeries:
         self._write_index()
         return self.directory / name
 
+    def restart(self, entries: list[tuple[float, str]]) -> None:
+        """Go back to ``entries`` (a shorter series written earlier): the ``.vtu`` files of later steps are deleted
+        and the ``.pvd`` index is rewritten, so a resumed run recomputes those steps without stale files."""
+        keep = {name for _, name in entries}
+        for path in self.directory.glob(f"{self.stem}_*.vtu"):
+            if path.name not in keep:
+                path.unlink()
+        self.entries = list(entries)
+        self._write_index()
+
     def _write_index(self) -> None:
         lines = ['<?xml version="1.0"?>', '<VTKFile type="Collection" version="0.1">', "  <Collection>"]
         lines += [f'    <DataSet timestep="{t:.9g}" file="{f}"/>' for t, f in self.entries]

@@ -306,6 +306,61 @@ def test_results_are_written_as_the_run_goes(tmp_path):
     assert last.point_data["displacement"].shape == (solver.kin.basis.mesh.p.shape[1], 3)
 
 
+class Interrupted(Exception):
+    """Stands for a killed process: raised from ``on_step`` after a chosen step."""
+
+
+def interrupt_after(step):
+    def on_step(result):
+        if len(result.load_factors) - 1 == step:
+            raise Interrupted
+    return on_step
+
+
+def test_an_interrupted_run_resumes_from_its_checkpoint_with_the_uninterrupted_curve(tmp_path):
+    """Killed after step 8 with checkpoints every 3 steps: the rerun goes back to step 6, recomputes 7 and 8
+    (replacing their rows and VTU files), and ends with the curve, fields and state of a run never stopped."""
+    material = VonMisesPlasticity(200000.0, 0.33, 60.0, 8000.0, integration="implicit")
+    control = StepControl(initial=0.05, maximum=0.1)
+
+    def run(output, **kw):
+        solver = plate_with_hole_problem(material, n_angular=6, n_radial=4, control=control)
+        return solver.run(output=output, vtu_every=2, progress=False, checkpoint_every=3, **kw)
+
+    whole = run(tmp_path / "whole")
+    with pytest.raises(Interrupted):
+        run(tmp_path / "cut", on_step=interrupt_after(8))
+    assert len(read_curve(tmp_path / "cut" / "curves.csv")["step"]) == 9          # steps 0..8 were on disk
+    assert load_checkpoint(tmp_path / "cut" / "last_converged.npz")["meta"]["control"]["step"] == 6
+    resumed = run(tmp_path / "cut", resume=True)
+
+    assert np.array_equal(resumed.load_factors, whole.load_factors)
+    for name in ("F_top", "u_top", "iterations"):
+        assert np.allclose(resumed.curves[name], whole.curves[name], rtol=1e-12, atol=0), name
+    assert np.allclose(resumed.u, whole.u, rtol=0, atol=1e-12)
+    assert np.allclose(resumed.state["alpha_p"], whole.state["alpha_p"], rtol=0, atol=1e-14)
+    assert len(resumed.residual_histories) == len(whole.residual_histories)
+    on_disk = read_curve(tmp_path / "cut" / "curves.csv")
+    assert np.array_equal(on_disk["step"], np.arange(len(whole.load_factors)))        # each step exactly once
+    assert np.allclose(on_disk["F_top"], whole.curves["F_top"], rtol=1e-12, atol=0)
+    names = sorted(p.name for p in (tmp_path / "cut" / "fields").glob("*.vtu"))
+    assert names == sorted(p.name for p in (tmp_path / "whole" / "fields").glob("*.vtu"))
+    assert (tmp_path / "cut" / "fields" / "step.pvd").read_text().count("<DataSet") == len(names)
+    again = run(tmp_path / "cut", resume=True)              # a finished run's rerun returns its result at once
+    assert np.array_equal(again.load_factors, whole.load_factors) and again.iterations[-1] == whole.iterations[-1]
+
+
+def test_resume_refuses_the_checkpoint_of_another_problem(tmp_path):
+    material = VonMisesPlasticity(200000.0, 0.33, 60.0, 8000.0, integration="implicit")
+    plate_with_hole_problem(material, n_angular=6, n_radial=4).run(output=tmp_path, vtu_every=0, progress=False,
+                                                                   end=0.2)
+    finer = plate_with_hole_problem(material, n_angular=8, n_radial=4)
+    with pytest.raises(ValueError, match="another problem.*delete it"):
+        finer.run(output=tmp_path, vtu_every=0, progress=False, resume=True)
+    with pytest.raises(ValueError, match="checkpoint_every"):
+        finer.run(checkpoint_every=-1, progress=False)
+
+
 def test_3d_amg_solver_matches_direct():
     mesh = meshes.graded_block(size=(4.0, 2.0, 2.0), divisions=(6, 3, 3), fine_at=(0.0, None, None),
                                grading=(2.0, 1.0, 1.0))

@@ -8,12 +8,13 @@ crack axes (state ``"axes"``, rows n, t1, t2 per point) are written as the eleme
 from __future__ import annotations
 
 import io
+import json
 from pathlib import Path
 
 import numpy as np
 
 from .. import tensors as T
-from ..io import CurveWriter, VtuSeries, write_atomically
+from ..io import CurveWriter, VtuSeries, jsonable, write_atomically
 
 SQRT2 = np.sqrt(2.0)
 _MESHIO_TYPE = {"MeshQuad1": "quad", "MeshTri1": "triangle", "MeshHex1": "hexahedron", "MeshTet1": "tetra"}
@@ -64,36 +65,53 @@ def cell_fields(stress: np.ndarray, state: dict) -> dict:
     return fields
 
 
-def save_checkpoint(path, u, state, load_factor: float, time: float) -> Path:
+def save_checkpoint(path, u, state, load_factor: float, time: float, *, arrays: dict | None = None,
+                    meta: dict | None = None) -> Path:
     """Write the last converged state so a run can be inspected or restarted (:func:`load_checkpoint`); atomically,
-    so an interruption leaves the previous checkpoint whole."""
-    arrays = {f"state__{k}": np.asarray(v) for k, v in state.items()}
+    so an interruption leaves the previous checkpoint whole. ``arrays`` (name -> array) and ``meta`` (JSON-able:
+    the run's history and step control) are what a resumed run needs beyond ``u`` and the material state."""
+    fields = {f"state__{k}": np.asarray(v) for k, v in state.items()}
+    fields.update({f"extra__{k}": np.asarray(v) for k, v in (arrays or {}).items()})
     buffer = io.BytesIO()
-    np.savez(buffer, u=u, load_factor=load_factor, time=time, **arrays)
+    np.savez(buffer, u=u, load_factor=load_factor, time=time, meta=np.array(json.dumps(jsonable(meta or {}))),
+             **fields)
     return write_atomically(path, buffer.getvalue())
 
 
 def load_checkpoint(path) -> dict:
-    """``{"u", "state", "load_factor", "time"}`` from :func:`save_checkpoint`."""
+    """``{"u", "state", "load_factor", "time", "arrays", "meta"}`` from :func:`save_checkpoint`."""
     with np.load(path) as data:
-        state = {k.removeprefix("state__"): data[k] for k in data.files if k.startswith("state__")}
-        return {"u": data["u"], "state": state, "load_factor": float(data["load_factor"]),
-                "time": float(data["time"])}
+        def prefixed(prefix):
+            return {k.removeprefix(prefix): data[k] for k in data.files if k.startswith(prefix)}
+
+        meta = json.loads(str(data["meta"])) if "meta" in data.files else {}
+        return {"u": data["u"], "state": prefixed("state__"), "load_factor": float(data["load_factor"]),
+                "time": float(data["time"]), "arrays": prefixed("extra__"), "meta": meta}
 
 
 class RunWriter:
-    """Curves CSV (one row per converged step), VTU series every ``vtu_every`` steps, checkpoint on demand."""
+    """Curves CSV (one row per converged step), VTU series every ``vtu_every`` steps, checkpoint on demand.
+
+    :meth:`restart` takes a run up again from a checkpoint's rows: ``curves.csv`` is rewritten with exactly those
+    rows and the VTU files of later steps (written before the interruption, to be recomputed) are removed."""
+
+    CHECKPOINT = "last_converged.npz"
 
     def __init__(self, directory, mesh, curve_columns, vtu_every: int = 1):
         self.directory = Path(directory)
         self.directory.mkdir(parents=True, exist_ok=True)
         self.mesh = mesh
-        self.curves = CurveWriter(self.directory / "curves.csv", curve_columns)
+        self.columns = list(curve_columns)
+        self.curves = CurveWriter(self.directory / "curves.csv", self.columns)
         self.vtu = VtuSeries(self.directory / "fields", stem="step") if vtu_every else None
         self.vtu_every = vtu_every
         self._cells = meshio_cells(mesh) if vtu_every else None
         self._points = np.vstack([mesh.p, np.zeros((3 - mesh.dim(), mesh.p.shape[1]))]).T
         self._count = 0
+
+    @property
+    def checkpoint_path(self) -> Path:
+        return self.directory / self.CHECKPOINT
 
     def write_step(self, row: dict, time: float, u: np.ndarray, nodal_dofs: np.ndarray, stress, state) -> None:
         self.curves.write(**row)
@@ -104,8 +122,24 @@ class RunWriter:
                            cell_data={k: [v] for k, v in cell_fields(stress, state).items()})
         self._count += 1
 
-    def checkpoint(self, u, state, load_factor: float, time: float) -> Path:
-        return save_checkpoint(self.directory / "last_converged.npz", u, state, load_factor, time)
+    def position(self) -> dict:
+        """Where the output stands (for a checkpoint): steps written and the VTU series' entries."""
+        return {"count": self._count, "vtu": [] if self.vtu is None else [list(e) for e in self.vtu.entries]}
+
+    def restart(self, rows: list[dict], position: dict) -> None:
+        """Continue the output of a run from a checkpoint: ``rows`` become ``curves.csv`` and the VTU series goes
+        back to ``position`` (:meth:`position` when the checkpoint was written)."""
+        self.curves.close()
+        self.curves = CurveWriter(self.directory / "curves.csv", self.columns)
+        for row in rows:
+            self.curves.write(**row)
+        self._count = int(position["count"])
+        if self.vtu is not None:
+            self.vtu.restart([(float(t), str(name)) for t, name in position["vtu"]])
+
+    def checkpoint(self, u, state, load_factor: float, time: float, *, arrays=None, meta=None) -> Path:
+        return save_checkpoint(self.checkpoint_path, u, state, load_factor, time, arrays=arrays,
+                               meta={**(meta or {}), "output": self.position()})
 
     def close(self) -> None:
         self.curves.close()

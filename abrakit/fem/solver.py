@@ -14,7 +14,8 @@ hook force). A step that diverges (non-finite values, residual growth after ``di
 iterations, too many iterations, singular tangent) is retried with dlambda * cutback; after
 ``easy_steps`` consecutive steps needing at most ``easy_iterations`` iterations dlambda grows by ``growth``
 (the defaults follow Abaqus/Standard's time incrementation). If dlambda falls below ``minimum``, :class:`StepFailed`
-is raised with the last converged state (also saved to ``<output>/last_converged.npz``).
+is raised with the last converged state (also saved to ``<output>/last_converged.npz``, which a run with
+``output`` also writes every ``checkpoint_every`` steps; ``run(..., resume=True)`` continues from it).
 
 Hooks for later models: ``loading(ctx) -> dict`` supplies extra keyword arguments to ``material.update`` (e.g. the
 external power for a rate limit), and every ``extra_terms`` item ``term(u, ctx) -> (R_extra, K_extra)`` adds a
@@ -39,7 +40,7 @@ from .assembly import Assembler
 from .boundary import Constraints, Dirichlet
 from .kinematics import Kinematics
 from .linsolve import DirectSolver, LinearSolveError, make_linear_solver, rigid_body_modes
-from .output import RunWriter
+from .output import RunWriter, load_checkpoint
 
 
 @dataclass(frozen=True)
@@ -164,15 +165,18 @@ class _History:
 class _Recorder:
     """The history of a run: one row per converged step (load factor, time, iterations, monitored displacements
     and forces, and any ``extra`` columns), written through a :class:`RunWriter` as it goes when ``output`` is
-    given, and turned into a :class:`SolveResult`."""
+    given, and turned into a :class:`SolveResult`. With ``output`` it also saves a checkpoint every
+    ``checkpoint_every`` steps, from which :meth:`resume` takes an interrupted run up again."""
 
-    def __init__(self, solver: Solver, output, vtu_every: int, extra_columns: Sequence[str] = ()):
+    def __init__(self, solver: Solver, output, vtu_every: int, extra_columns: Sequence[str] = (),
+                 checkpoint_every: int = 0):
         self.solver = solver
         self.columns = ["step", "load_factor", "time", "iterations", *extra_columns] + [
             f"{kind}_{name}" for name in solver.monitors for kind in ("u", "F")]
         self.output = Path(output) if output is not None else None
         self.writer = (RunWriter(output, solver.kin.basis.mesh, self.columns, vtu_every)
                        if output is not None else None)
+        self.checkpoint_every = checkpoint_every
         self.nodal = np.asarray(solver.kin.basis.nodal_dofs)
         self.hist = _History()
         self.t0 = _time.perf_counter()
@@ -202,8 +206,51 @@ class _Recorder:
                            u, state, response, f_int, hist.residuals, cutbacks, _time.perf_counter() - self.t0,
                            self.output)
 
-    def checkpoint(self, u, state, lam) -> Path | None:
-        return self.writer.checkpoint(u, state, lam, lam * self.solver.duration) if self.writer else None
+    def _fingerprint(self) -> dict:
+        kin = self.solver.kin
+        return {"ndof": int(kin.ndof), "nel": int(kin.nel), "nqp": int(kin.nqp), "columns": self.columns,
+                "duration": float(self.solver.duration)}
+
+    def checkpoint(self, u, state, lam, f_int=None, control: dict | None = None) -> Path | None:
+        """Save the last converged step with the history so far and the step control (``control``: ``delta``,
+        ``easy``, ``cutbacks``, ``delta_prev`` and the arrays ``u_prev``), or nothing without ``output``."""
+        if self.writer is None:
+            return None
+        control = dict(control or {})
+        u_prev = control.pop("u_prev", None)
+        arrays = {k: v for k, v in (("f_int", f_int), ("u_prev", u_prev)) if v is not None}
+        hist = self.hist
+        meta = {"fingerprint": self._fingerprint(), "control": control,
+                "history": {"rows": hist.rows, "iterations": hist.iterations, "residuals": hist.residuals}}
+        return self.writer.checkpoint(u, state, lam, lam * self.solver.duration, arrays=arrays, meta=meta)
+
+    def due(self, step: int) -> bool:
+        return self.writer is not None and self.checkpoint_every > 0 and step % self.checkpoint_every == 0
+
+    def resume(self) -> dict | None:
+        """The checkpoint in ``output`` with the history restored and the output files rewound to it, or ``None``
+        when there is none. A checkpoint of a different problem (DOFs, elements, points, columns) is refused."""
+        if self.writer is None or not self.writer.checkpoint_path.exists():
+            return None
+        saved = load_checkpoint(self.writer.checkpoint_path)
+        meta = saved["meta"]
+        if "history" not in meta:
+            raise ValueError(f"{self.writer.checkpoint_path} holds no run history (written by an older version); "
+                             "delete it to start the run afresh")
+        if meta["fingerprint"] != self._fingerprint():
+            raise ValueError(f"resume: the checkpoint {self.writer.checkpoint_path} belongs to another problem "
+                             f"({meta['fingerprint']} != {self._fingerprint()}); delete it or choose another output")
+        history = meta["history"]
+        hist = self.hist
+        for row, iterations, residuals in zip(history["rows"], history["iterations"], history["residuals"],
+                                              strict=True):
+            hist.rows.append(row)
+            hist.load_factors.append(row["load_factor"])
+            hist.times.append(row["time"])
+            hist.iterations.append(iterations)
+            hist.residuals.append(residuals)
+        self.writer.restart(history["rows"], meta["output"])
+        return saved
 
     def close(self) -> None:
         if self.writer is not None:
@@ -396,20 +443,30 @@ class Solver:
     # ---- load stepping --------------------------------------------------------------------------------------
     def run(self, *, end: float = 1.0, start: float = 0.0, u0: np.ndarray | None = None,
             state0: dict | None = None, output: str | Path | None = None, vtu_every: int = 1,
-            progress: bool = True, on_step: Callable[[SolveResult], None] | None = None) -> SolveResult:
+            progress: bool = True, on_step: Callable[[SolveResult], None] | None = None,
+            checkpoint_every: int = 10, resume: bool = False) -> SolveResult:
         """Follow the load path from ``start`` to ``end`` (load factors); returns the converged history.
 
-        ``output``: directory for ``curves.csv``, ``fields/step.pvd`` (+ ``.vtu``) and, on failure,
-        ``last_converged.npz``; ``vtu_every=0`` disables field output. ``on_step`` is called after every
-        converged step with the (partial) result.
+        ``output``: directory for ``curves.csv``, ``fields/step.pvd`` (+ ``.vtu``) and ``last_converged.npz``,
+        the checkpoint, saved every ``checkpoint_every`` converged steps (0: only on failure), at the end, and on
+        failure; ``vtu_every=0`` disables field output. ``resume=True`` takes a run up again from the checkpoint in
+        ``output`` (if there is one): the steps after it are recomputed, their rows and VTU files replaced, and the
+        result is that of an uninterrupted run. ``on_step`` is called after every converged step with the
+        (partial) result.
         """
         check_range("end", end, start, None, low_open=True)
+        check_range("checkpoint_every", checkpoint_every, 0, None)
         ctrl, kin, cons = self.control, self.kin, self.constraints
-        state = state0 if state0 is not None else self.material.initial_state((kin.nel, kin.nqp))
-        u = cons.apply(np.zeros(kin.ndof) if u0 is None else u0, start)
+        recorder = _Recorder(self, output, vtu_every, checkpoint_every=int(checkpoint_every))
+        saved = recorder.resume() if resume else None
+        if saved is not None:
+            start, state, control = saved["load_factor"], saved["state"], saved["meta"]["control"]
+            u = saved["u"]
+        else:
+            state = state0 if state0 is not None else self.material.initial_state((kin.nel, kin.nqp))
+            u = cons.apply(np.zeros(kin.ndof) if u0 is None else u0, start)
         ctx0 = StepContext(0, start, 0.0, start * self.duration, 0.0, 0, u, u, state, np.zeros(kin.ndof))
         response, _, f_int, _, _ = self.evaluate(u, state, ctx0)  # the start state, for the record only
-        recorder = _Recorder(self, output, vtu_every)
         cutbacks = 0
 
         def record(step, lam, iterations, residuals):
@@ -418,9 +475,19 @@ class Solver:
         def result():
             return recorder.result(cutbacks)
 
-        record(0, start, 0, [])
+        def control_state():
+            return {"step": step, "delta": delta, "easy": easy, "cutbacks": cutbacks, "u_prev": u_prev,
+                    "delta_prev": delta_prev}
+
         lam, delta, easy, step = start, min(ctrl.initial, end - start), 0, 0
         u_prev, delta_prev = None, None
+        if saved is None:
+            record(0, start, 0, [])
+        else:                                          # continue exactly where the checkpoint left the run
+            f_int = saved["arrays"].get("f_int", f_int)
+            recorder.last = (u, state, response, f_int)
+            step, delta, easy, cutbacks = control["step"], control["delta"], control["easy"], control["cutbacks"]
+            u_prev, delta_prev = saved["arrays"].get("u_prev"), control["delta_prev"]
         bar = progress_bar(total=end - start, disable=not progress, unit="λ",
                            bar_format="{l_bar}{bar}| λ={n:.4f}/{total}")
         try:
@@ -443,7 +510,7 @@ class Solver:
                     easy = 0
                     delta *= ctrl.cutback
                     if delta < ctrl.minimum * (1 - 1e-12):
-                        checkpoint = recorder.checkpoint(u, state, lam)
+                        checkpoint = recorder.checkpoint(u, state, lam, f_int, control_state())
                         where = f"; saved to {checkpoint}" if checkpoint else ""
                         raise StepFailed(
                             f"load step from λ={lam:.6g} failed: {failure.reason}; the step size was cut back to "
@@ -462,6 +529,10 @@ class Solver:
                 easy = easy + 1 if res.iterations <= ctrl.easy_iterations else 0
                 if easy >= ctrl.easy_steps:
                     delta, easy = min(delta * ctrl.growth, ctrl.maximum), 0
+                if recorder.due(step):
+                    recorder.checkpoint(u, state, lam, f_int, control_state())
+            if recorder.writer is not None and not recorder.due(step):
+                recorder.checkpoint(u, state, lam, f_int, control_state())      # the end: a rerun returns at once
         finally:
             bar.close()
             recorder.close()
