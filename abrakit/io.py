@@ -2,8 +2,9 @@
 
 - :class:`CurveWriter` appends one CSV row per step and flushes it at once; :class:`RunRecord` keeps a run's columns
   in memory and writes them through one.
-- :func:`write_json` writes atomically (temporary file, then rename); :func:`save_state`/:func:`load_state` pickle a
-  run's state the same way, for resuming.
+- :func:`write_json` writes strict JSON (NaN and infinities as the strings "NaN", "Infinity", "-Infinity", which
+  :func:`read_json` reads back as floats) atomically (temporary file, then rename); :func:`save_state` and
+  :func:`load_state` pickle a run's state the same way, for resuming.
 - :func:`progress_bar` is the one tqdm bar every long run shows.
 - :class:`VtuSeries` writes one ``.vtu`` per step with meshio and keeps a ParaView ``.pvd`` index current.
 """
@@ -18,6 +19,11 @@ import tempfile
 from pathlib import Path
 
 import numpy as np
+
+#: Non-finite floats in result files. JSON has no token for them (Python's ``NaN`` and ``Infinity`` are an extension
+#: other readers refuse), so they are written as these strings, the mapping of Protocol Buffers' canonical JSON,
+#: and :func:`read_json` turns them back into floats.
+NON_FINITE = {"NaN": float("nan"), "Infinity": float("inf"), "-Infinity": float("-inf")}
 
 
 def jsonable(obj):
@@ -58,9 +64,44 @@ def write_atomically(path, payload: bytes) -> Path:
     return path
 
 
+def strict_json(data) -> object:
+    """``data`` as strict JSON values: :func:`jsonable`, with NaN and ±inf as the strings of :data:`NON_FINITE`."""
+    data = jsonable(data)
+    if isinstance(data, float) and not np.isfinite(data):
+        return "NaN" if np.isnan(data) else "Infinity" if data > 0 else "-Infinity"
+    if isinstance(data, dict):
+        return {k: strict_json(v) for k, v in data.items()}
+    if isinstance(data, list):
+        return [strict_json(v) for v in data]
+    return data
+
+
+def from_strict_json(data) -> object:
+    """The inverse of :func:`strict_json`: the strings of :data:`NON_FINITE` become floats again."""
+    if isinstance(data, str):
+        return NON_FINITE.get(data, data)
+    if isinstance(data, dict):
+        return {k: from_strict_json(v) for k, v in data.items()}
+    if isinstance(data, list):
+        return [from_strict_json(v) for v in data]
+    return data
+
+
+def dumps(data, **options) -> str:
+    """Strict JSON text of ``data`` (:func:`strict_json`; no ``NaN``/``Infinity`` tokens)."""
+    return json.dumps(strict_json(data), allow_nan=False, **options)
+
+
+def loads(text: str):
+    """``data`` from :func:`dumps` text, non-finite numbers restored; the ``NaN`` tokens of older files are read
+    too."""
+    return from_strict_json(json.loads(text))
+
+
 def write_json(path, data) -> Path:
-    """Write ``data`` (dicts, lists, numpy values) as indented JSON, atomically (:func:`write_atomically`)."""
-    return write_atomically(path, json.dumps(jsonable(data), indent=2).encode())
+    """Write ``data`` (dicts, lists, numpy values) as indented strict JSON (:func:`dumps`), atomically
+    (:func:`write_atomically`)."""
+    return write_atomically(path, dumps(data, indent=2).encode())
 
 
 def save_state(path, state) -> Path:
@@ -76,7 +117,8 @@ def load_state(path):
 
 
 def read_json(path):
-    return json.loads(Path(path).read_text())
+    """What :func:`write_json` wrote to ``path``, NaN and infinities as floats (:func:`loads`)."""
+    return loads(Path(path).read_text())
 
 
 class CurveWriter:
@@ -188,6 +230,4 @@ class VtuSeries:
         lines = ['<?xml version="1.0"?>', '<VTKFile type="Collection" version="0.1">', "  <Collection>"]
         lines += [f'    <DataSet timestep="{t:.9g}" file="{f}"/>' for t, f in self.entries]
         lines += ["  </Collection>", "</VTKFile>", ""]
-        tmp = self.directory / f"{self.stem}.pvd.tmp"
-        tmp.write_text("\n".join(lines))
-        os.replace(tmp, self.directory / f"{self.stem}.pvd")
+        write_atomically(self.directory / f"{self.stem}.pvd", "\n".join(lines).encode())

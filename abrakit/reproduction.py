@@ -8,11 +8,11 @@ prints the same verdicts. A missing result file gives ``not computed`` with the 
 
 from __future__ import annotations
 
-import json
 from dataclasses import dataclass
 from pathlib import Path
 
 from . import wear
+from .io import read_json
 
 RESULTS = Path(__file__).resolve().parent.parent / "benchmarks" / "results"
 VERDICTS = ("reproduced", "close", "differs", "not computed")
@@ -38,7 +38,7 @@ def _verdict(deviation: float, close: float = 0.05, reproduced: float = 0.01) ->
 
 def _load(results: Path, name: str):
     path = Path(results) / f"{name}.json"
-    return json.loads(path.read_text()) if path.exists() else None
+    return read_json(path) if path.exists() else None
 
 
 def stored_result(name: str, *, results: str | Path = RESULTS, fallback: bool = True) -> dict | None:
@@ -67,7 +67,7 @@ def stored_result(name: str, *, results: str | Path = RESULTS, fallback: bool = 
                    cwd=script.parent, stdout=subprocess.DEVNULL)
     for candidate in (f"{name}_quick.json", f"{name}.json"):
         if (outdir / candidate).exists():
-            return json.loads((outdir / candidate).read_text())
+            return read_json(outdir / candidate)
     raise FileNotFoundError(f"bench_{name}.py --quick wrote no {name}.json into {outdir}")
 
 

@@ -39,7 +39,7 @@ from abrakit.damage import CrackBandBar, metrics, run_specimen, specimen
 from abrakit.damage.crack_band import DoubleCantileverBeam
 from abrakit.experiments import run_sweep
 from abrakit.fem import PathControl, StepControl
-from abrakit.io import CurveWriter, write_json
+from abrakit.io import CurveWriter, read_json, write_json
 
 NAME = "anisotropic_damage"
 BAR_SIZES, QUICK_BAR_SIZES = (1, 4, 16, 64, 256), (1, 8, 64)
@@ -193,11 +193,9 @@ def main(outdir: Path = RESULTS, quick: bool = False) -> dict:
 def surface_study(rows, outdir: Path) -> dict:
     """Per surface: the deviation of peak and dissipation from its finest mesh, and the wall time, per mesh; the
     cost per step beside Model I and II on the same meshes (their stored ``damage.json``, if present)."""
-    import json
-
     study = [r for r in rows if r["study"] == "surface"]
     stored = Path(outdir) / "damage.json"
-    others = json.loads(stored.read_text())["cases"] if stored.exists() else {}
+    others = read_json(stored)["cases"] if stored.exists() else {}
     out = {}
     for surface in sorted({int(r["size"]) for r in study}):
         group = sorted((r for r in study if int(r["size"]) == surface), key=lambda r: r["elements"])

@@ -64,6 +64,25 @@ def test_json_and_vtu_series(tmp_path):
     np.testing.assert_allclose(m.point_data["u"], pts)
 
 
+def test_json_is_strict_and_gives_non_finite_numbers_back(tmp_path):
+    """No NaN/Infinity tokens (other JSON readers refuse them); read_json restores the floats, None stays None,
+    and files written before (with NaN tokens) still read."""
+    import json
+
+    data = {"peak": np.nan, "curve": np.array([1.0, np.inf, -np.inf]), "note": None, "nested": [{"x": np.nan}]}
+    path = io.write_json(tmp_path / "r.json", data)
+    text = path.read_text()
+    assert "NaN" not in text.replace('"NaN"', "") and "Infinity" not in text.replace('"Infinity"', "").replace(
+        '"-Infinity"', "")
+    json.loads(text, parse_constant=lambda token: pytest.fail(f"non-strict token {token}"))
+    back = io.read_json(path)
+    assert np.isnan(back["peak"]) and back["curve"][1:] == [np.inf, -np.inf] and back["note"] is None
+    assert np.isnan(back["nested"][0]["x"])
+    (tmp_path / "old.json").write_text('{"peak": NaN, "x": [Infinity]}')
+    old = io.read_json(tmp_path / "old.json")
+    assert np.isnan(old["peak"]) and old["x"] == [np.inf]
+
+
 def _write_many(path, tag, count):
     from abrakit.io import write_json
 
@@ -104,3 +123,18 @@ def test_run_record_keeps_columns_writes_them_and_takes_over_saved_rows(tmp_path
     record.close()
     assert len(record) == 3 and record.arrays()["d"].tolist() == [0.1, 0.2, 0.3]
     assert read_curve(tmp_path / "run.csv")["n"].tolist() == [1.0, 2.0, 3.0]
+
+
+def test_every_stored_result_is_strict_json():
+    """The committed benchmark results hold no NaN/Infinity tokens (they were rewritten by write_json)."""
+    import json
+    from pathlib import Path
+
+    results = Path(__file__).resolve().parents[1] / "benchmarks" / "results"
+    offenders = []
+    for path in results.rglob("*.json"):
+        try:
+            json.loads(path.read_text(), parse_constant=lambda token: (_ for _ in ()).throw(ValueError(token)))
+        except ValueError:
+            offenders.append(path.relative_to(results))
+    assert not offenders, f"non-strict JSON: {offenders[:5]}"

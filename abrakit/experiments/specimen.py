@@ -31,6 +31,7 @@ from __future__ import annotations
 
 import dataclasses
 import hashlib
+import io
 import json
 import os
 import time
@@ -50,6 +51,7 @@ from abrakit.dem import (
     porosity,
 )
 from abrakit.dem.measure import contact_counts, relax, unbalanced_force_ratio
+from abrakit.io import dumps, loads, write_atomically
 from abrakit.validation import check_option, check_positive, check_range
 
 __all__ = [
@@ -285,20 +287,19 @@ class Specimen:
 
     # ----------------------------------------------------------------------------------- persistence
     def save(self, path) -> Path:
-        path = Path(path)
-        path.parent.mkdir(parents=True, exist_ok=True)
-        tmp = path.with_suffix(".tmp.npz")
-        np.savez(tmp, x=self.x, radius=self.radius, lengths=self.lengths, clump=self.clump,
-                 spec=json.dumps(dataclasses.asdict(self.spec)), info=json.dumps(self.info))
-        os.replace(tmp, path)
-        return path
+        """Write the specimen to ``path`` (.npz) atomically under a unique temporary name, so two processes making
+        the same specimen never mix their bytes."""
+        buffer = io.BytesIO()
+        np.savez(buffer, x=self.x, radius=self.radius, lengths=self.lengths, clump=self.clump,
+                 spec=dumps(dataclasses.asdict(self.spec)), info=dumps(self.info))
+        return write_atomically(path, buffer.getvalue())
 
     @classmethod
     def load(cls, path) -> Specimen:
         with np.load(path) as data:
-            spec = SpecimenSpec(**json.loads(str(data["spec"])))
+            spec = SpecimenSpec(**loads(str(data["spec"])))
             return cls(spec, data["x"].copy(), data["radius"].copy(), data["lengths"].copy(),
-                       json.loads(str(data["info"])), data["clump"].copy())
+                       loads(str(data["info"])), data["clump"].copy())
 
     # ----------------------------------------------------------------------------------- tests
     def simulation(self, material: Material | None = None, *, kernel: str | None = None) -> Simulation:

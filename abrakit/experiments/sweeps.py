@@ -45,7 +45,7 @@ from collections.abc import Callable, Iterable, Mapping
 from datetime import datetime, timezone
 from pathlib import Path
 
-from abrakit.io import jsonable, progress_bar, read_json, write_json
+from abrakit.io import dumps, jsonable, loads, progress_bar, read_json, write_json
 from abrakit.validation import check_option
 
 __all__ = ["case_key", "canonical_params", "load_sweep", "run_sweep"]
@@ -85,7 +85,7 @@ def _case_name(case_fn) -> str:
 
 def _roundtrip(obj):
     """What JSON gives back: numpy arrays become lists, tuples lists, numpy scalars Python numbers."""
-    return json.loads(json.dumps(jsonable(obj)))
+    return loads(dumps(obj))
 
 
 def _execute(case_fn, key: str, params: dict, catch: bool) -> dict:

@@ -8,13 +8,12 @@ crack axes (state ``"axes"``, rows n, t1, t2 per point) are written as the eleme
 from __future__ import annotations
 
 import io
-import json
 from pathlib import Path
 
 import numpy as np
 
 from .. import tensors as T
-from ..io import CurveWriter, VtuSeries, jsonable, write_atomically
+from ..io import CurveWriter, VtuSeries, dumps, loads, write_atomically
 
 SQRT2 = np.sqrt(2.0)
 _MESHIO_TYPE = {"MeshQuad1": "quad", "MeshTri1": "triangle", "MeshHex1": "hexahedron", "MeshTet1": "tetra"}
@@ -73,7 +72,7 @@ def save_checkpoint(path, u, state, load_factor: float, time: float, *, arrays: 
     fields = {f"state__{k}": np.asarray(v) for k, v in state.items()}
     fields.update({f"extra__{k}": np.asarray(v) for k, v in (arrays or {}).items()})
     buffer = io.BytesIO()
-    np.savez(buffer, u=u, load_factor=load_factor, time=time, meta=np.array(json.dumps(jsonable(meta or {}))),
+    np.savez(buffer, u=u, load_factor=load_factor, time=time, meta=np.array(dumps(meta or {})),
              **fields)
     return write_atomically(path, buffer.getvalue())
 
@@ -84,7 +83,7 @@ def load_checkpoint(path) -> dict:
         def prefixed(prefix):
             return {k.removeprefix(prefix): data[k] for k in data.files if k.startswith(prefix)}
 
-        meta = json.loads(str(data["meta"])) if "meta" in data.files else {}
+        meta = loads(str(data["meta"])) if "meta" in data.files else {}
         return {"u": data["u"], "state": prefixed("state__"), "load_factor": float(data["load_factor"]),
                 "time": float(data["time"]), "arrays": prefixed("extra__"), "meta": meta}
 
