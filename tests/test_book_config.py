@@ -26,3 +26,24 @@ def test_offline_check_finds_a_cdn_script(tmp_path):
                                      '<script src="_static/local.js"></script>')
     (tmp_path / "b.html").write_text('<link rel="stylesheet" href="_static/theme.css">')
     assert check.external_references(tmp_path) == {"a.html": {"https://cdn.example.org/x.js"}}
+
+
+def test_an_executed_chapter_is_offered_as_a_notebook(tmp_path):
+    import importlib.util
+    from types import SimpleNamespace
+
+    spec = importlib.util.spec_from_file_location("notebook_download", BOOK / "_ext" / "notebook_download.py")
+    ext = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(ext)
+    config = yaml.safe_load((BOOK / "_config.yml").read_text())["sphinx"]
+    assert config["local_extensions"]["notebook_download"] == "_ext"
+    html = tmp_path / "_build" / "html"
+    (tmp_path / "_build" / "jupyter_execute").mkdir(parents=True)
+    (tmp_path / "_build" / "jupyter_execute" / "dem.ipynb").write_text('{"cells": []}')
+    app = SimpleNamespace(outdir=str(html))
+    context = {"sourcename": "dem.md"}
+    ext.offer_notebook(app, "dem", "page.html", context, None)
+    assert context["ipynb_source"] == "dem.ipynb" and (html / "_sources" / "dem.ipynb").read_text() == '{"cells": []}'
+    plain = {"sourcename": "api.rst"}
+    ext.offer_notebook(app, "api", "page.html", plain, None)           # no executed notebook: nothing offered
+    assert "ipynb_source" not in plain
