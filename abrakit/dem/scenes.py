@@ -24,7 +24,7 @@ from abrakit.dem.measure import coordination_number, energy_balance, kinetic_ene
 from abrakit.dem.simulation import Simulation
 from abrakit.dem.state import Particles, sphere_mass
 from abrakit.dem.walls import Walls
-from abrakit.validation import check_option, check_positive, check_range
+from abrakit.validation import check_finite, check_option, check_positive, check_range
 
 __all__ = [
     "bonded_chain_wave",
@@ -240,6 +240,9 @@ def bonded_chain_wave(n=200, *, radius=0.005, density=2650.0, k=1e5, width=8.0, 
     position over time gives the wave speed, compared with c = ℓ√(k/m) (long waves of the discrete chain).
     """
     n = int(check_positive("n", n))
+    width = check_positive("width", width)
+    if amplitude is not None:
+        amplitude = check_finite("amplitude", amplitude)
     spacing = 2 * radius
     X = np.column_stack([np.arange(n) * spacing, np.zeros(n), np.zeros(n)])
     p = Particles.spheres(X, radius, density, kn=2 * k, friction=0.0)

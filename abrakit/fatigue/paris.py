@@ -24,7 +24,7 @@ from __future__ import annotations
 import numpy as np
 
 from abrakit.fatigue.bond_law import BondParameters, criterion, damage_after, flow_direction
-from abrakit.validation import check_positive, check_range
+from abrakit.validation import check_finite, check_positive, check_range
 
 __all__ = ["cycle_jump", "cycle_update", "fatigue_displacements", "geometric_factor", "paris_increment",
            "stress_intensity_range", "tensile_part"]
@@ -45,13 +45,14 @@ def stress_intensity_range(damage, range_n, range_s, p: BondParameters, width=No
     """Mixed-mode ΔK = Y(D) √(π L D) √(Δσ_n² + Δσ_s²) [Pa √m] (Eqs. 28–33); ``width`` L defaults to
     ``p.width`` (one value per bond in a DEM assembly)."""
     damage = np.asarray(damage, float)
-    width = p.width if width is None else np.asarray(width, float)
+    width = p.width if width is None else check_positive("width", width)
+    range_n, range_s = check_finite("range_n", range_n), check_finite("range_s", range_s)
     return geometric_factor(damage) * np.sqrt(np.pi * width * damage) * np.hypot(range_n, range_s)
 
 
 def paris_increment(damage, range_n, range_s, p: BondParameters, width=None):
     """Fatigue damage of one load cycle, ΔD_f = (C/L) ΔKᵐ (Eq. 27), capped so that D + ΔD_f ≤ 1."""
-    width = p.width if width is None else np.asarray(width, float)
+    width = p.width if width is None else check_positive("width", width)
     rate = p.paris_coefficient / width * stress_intensity_range(damage, range_n, range_s, p, width) ** p.paris_exponent
     return np.minimum(rate, 1.0 - np.asarray(damage, float))
 

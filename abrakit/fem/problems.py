@@ -18,7 +18,7 @@ import skfem
 from scipy.optimize import brentq
 
 from ..materials import TABLE_7_1
-from ..validation import check_option, check_positive, check_range
+from ..validation import check_finite, check_option, check_positive, check_range
 from . import meshes
 from .boundary import Dirichlet, surface_load
 from .kinematics import vector_basis
@@ -141,6 +141,7 @@ def kirsch_displacement(x, y, *, remote_stress, radius, E, nu):
 
 def kirsch_stress(x, y, *, remote_stress, radius):
     """Kirsch stresses (sigma_xx, sigma_yy, sigma_xy) in MPa; sigma_xx = 3 sigma at (0, radius)."""
+    x, y = check_finite("x", x), check_finite("y", y)
     r, th = np.hypot(x, y), np.arctan2(y, x)
     s, q2, q4 = remote_stress / 2, (radius / r) ** 2, (radius / r) ** 4
     c2, s2 = np.cos(2 * th), np.sin(2 * th)

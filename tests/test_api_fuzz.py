@@ -1,0 +1,86 @@
+"""The public API under invalid input (tools/api_fuzz.py): calls the test suite makes, replayed with one argument
+made invalid, and with one number scaled (hypothesis).
+
+- Valid calls give finite results (except the documented sentinels of ``NON_FINITE_BY_DESIGN``).
+- No invalid input escapes as a foreign exception (``deep``) from inside numpy or scipy.
+- Every invalid input that is not refused by name is one the stored baseline (``benchmarks/results/api_fuzz.json``,
+  ``python tools/api_fuzz.py fuzz``) already lists: the count can only fall.
+- A valid number scaled by 1/2 … 2 gives a finite result or a ``ValueError``/``TypeError`` that names a parameter.
+"""
+
+import copy
+import importlib.util
+import json
+from pathlib import Path
+
+import numpy as np
+import pytest
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
+
+ROOT = Path(__file__).resolve().parent.parent
+spec = importlib.util.spec_from_file_location("api_fuzz", ROOT / "tools" / "api_fuzz.py")
+fuzz = importlib.util.module_from_spec(spec)
+spec.loader.exec_module(fuzz)
+
+BASELINE = json.loads((ROOT / "benchmarks" / "results" / "api_fuzz.json").read_text())
+FAST = 0.05                 # s: calls slower than this are studies, fuzzed by the tool, not in the default suite
+
+
+@pytest.fixture(scope="module")
+def catalogue():
+    return fuzz.load_catalogue()
+
+
+@pytest.fixture(scope="module")
+def result(catalogue):
+    return fuzz.fuzz(catalogue, slow=FAST, limit=1.0, skip=set(BASELINE["slow"]))
+
+
+def test_the_catalogue_covers_the_public_api(catalogue):
+    assert len(catalogue) >= 250 and len(fuzz.public_callables()) >= 300
+
+
+def test_valid_calls_give_finite_results(result):
+    assert result["counts"]["valid calls"] >= 600
+    assert result["valid_non_finite"] == []
+
+
+def test_no_invalid_input_escapes_from_inside_numpy_or_scipy(result):
+    deep = [c for c in result["cases"] if c["outcome"] == "deep"]
+    assert deep == [], deep[:5]
+
+
+def test_invalid_input_not_refused_by_name_is_only_what_the_baseline_lists(result):
+    def key(case):
+        return case["callable"], case["parameter"], case["value"], case["outcome"]
+
+    known = {key(c) for c in BASELINE["cases"] if c["outcome"] != "named"}
+    new = sorted({key(c) for c in result["cases"] if c["outcome"] not in ("named", "timeout")} - known)
+    assert new == [], f"{len(new)} new invalid inputs not refused by name, e.g. {new[:5]}"
+
+
+def scalable(catalogue):
+    calls = fuzz.valid_calls(catalogue, slow=FAST, skip=set(BASELINE["slow"]))
+    return [(name, call, kwargs, p) for name, call, kwargs in calls for p, v in kwargs.items()
+            if isinstance(v, float | np.floating) and not isinstance(v, bool) and np.isfinite(v) and v != 0.0]
+
+
+@pytest.fixture(scope="module")
+def numbers(catalogue):
+    return scalable(catalogue)
+
+
+@settings(max_examples=300, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture])
+@given(choice=st.integers(min_value=0), factor=st.floats(0.5, 2.0))
+def test_a_valid_number_scaled_gives_a_finite_result_or_a_named_error(numbers, choice, factor):
+    name, call, kwargs, parameter = numbers[choice % len(numbers)]
+    if name in fuzz.NON_FINITE_BY_DESIGN:
+        return
+    scaled = copy.deepcopy(kwargs)
+    scaled[parameter] = kwargs[parameter] * factor
+    kind, text = fuzz.outcome(call, scaled, parameter, limit=2.0)
+    if kind == "timeout":           # a new specimen built and relaxed (not cached): a study, not a finding
+        return
+    assert kind == "accepted" or (kind in ("named", "unnamed") and fuzz.names_a_parameter(call, text)), \
+        f"{name}({parameter} × {factor:.3g}): {kind} {text}"

@@ -1,0 +1,365 @@
+"""Fuzz the public API with invalid input, starting from calls the test suite makes.
+
+Two stages:
+
+1. **harvest** runs the test suite (not the slow studies) with a profiler hook and keeps, for every public function
+   and class of ``abrakit`` (module level, name without a leading underscore), up to ``PER_CALLABLE`` calls whose
+   arguments are plain data: numbers, strings, ``None``, numpy arrays, tuples, lists and dicts of these, and
+   abrakit dataclasses made of them. They are pickled into ``tools/api_calls.pkl``: valid calls, by construction.
+2. **fuzz** replays each valid call (its result must hold no NaN or infinity) and then the same call with one
+   numeric argument made invalid: NaN for a number, a NaN entry for an array, a string for a number, ``None`` for a
+   value that is not ``None`` by default. Every outcome falls in one class (:data:`OUTCOMES`):
+
+   - ``named``: ``ValueError``/``TypeError`` whose message names the parameter (what the toolkit promises);
+   - ``unnamed``: ``ValueError``/``TypeError`` that does not name it;
+   - ``deep``: another exception, e.g. from inside numpy or scipy;
+   - ``non_finite``: the call returned NaN or infinity;
+   - ``accepted``: the call returned a finite result for the invalid input;
+   - ``timeout``: the call ran longer than its limit (a study that an invalid input sent astray).
+
+   Some arguments accept NaN by design (curves written as they come, statistics that count what they drop):
+   :data:`NAN_ALLOWED` lists them with the reason.
+
+``python tools/api_fuzz.py harvest`` then ``python tools/api_fuzz.py fuzz`` writes the counts to
+``benchmarks/results/api_fuzz.json``; ``tests/test_api_fuzz.py`` runs the fuzz stage on the stored calls.
+"""
+
+from __future__ import annotations
+
+import copy
+import dataclasses
+import importlib
+import inspect
+import pickle
+import pkgutil
+import signal
+import sys
+import time
+import warnings
+from collections import Counter, defaultdict
+from pathlib import Path
+
+import numpy as np
+
+ROOT = Path(__file__).resolve().parent.parent
+CATALOGUE = ROOT / "tools" / "api_calls.pkl"
+PER_CALLABLE = 3
+MAX_ARRAY = 20_000
+MAX_BYTES = 10_000         # a harvested call's pickled arguments: larger ones (whole meshes, long curves) are dropped
+SLOW_CALL = 0.5            # s: valid calls slower than this are not fuzzed (a study, not an input check)
+OUTCOMES = ("named", "unnamed", "deep", "non_finite", "accepted", "timeout")
+
+#: (callable, parameter) pairs that take NaN on purpose, and why.
+NAN_ALLOWED = {
+    ("abrakit.experiments.closed_form_checks.mean_interval", "values"): "NaN samples are dropped and counted "
+                                                                        "(``dropped``)",
+}
+
+#: Callables whose valid calls may return a non-finite value, documented in their docstrings, and why.
+NON_FINITE_BY_DESIGN = {
+    "abrakit.damage.metrics.softening_displacement": "inf when the force never falls to the fraction (no drop)",
+    "abrakit.experiments.closed_form_checks.mean_interval": "std and half-width of a single value are undefined "
+                                                            "(NaN, as numpy's sample std)",
+    "abrakit.experiments.compression.crack_initiation_stress": "NaN when no bond broke in the test",
+}
+
+
+# ---- what is public --------------------------------------------------------------------------------------------
+def public_callables() -> dict[str, object]:
+    """``{"module.name": callable}`` of every public function and class defined in an abrakit module."""
+    import abrakit
+
+    found = {}
+    for info in pkgutil.walk_packages(abrakit.__path__, "abrakit."):
+        if any(part.startswith("_") for part in info.name.split(".")) or info.name.endswith(".cli"):
+            continue
+        try:
+            module = importlib.import_module(info.name)
+        except ImportError:            # an optional extra (numba, pypardiso) that is not installed
+            continue
+        for name, obj in vars(module).items():
+            if name.startswith("_") or getattr(obj, "__module__", None) != module.__name__:
+                continue
+            if inspect.isfunction(obj) or (inspect.isclass(obj) and not issubclass(obj, BaseException)):
+                found[f"{module.__name__}.{name}"] = obj
+    return found
+
+
+def _code_of(obj):
+    target = obj.__init__ if inspect.isclass(obj) else obj
+    return getattr(target, "__code__", None)
+
+
+# ---- plain data --------------------------------------------------------------------------------------------------
+def is_plain(value, depth: int = 0) -> bool:
+    """Data that can be stored and replayed: numbers, strings, None, small arrays, containers and abrakit
+    dataclasses of these."""
+    if depth > 4:
+        return False
+    if value is None or isinstance(value, bool | int | float | str | complex | np.generic):
+        return True
+    if isinstance(value, np.ndarray):
+        return value.dtype != object and value.size <= MAX_ARRAY
+    if isinstance(value, tuple | list):
+        return len(value) <= 200 and all(is_plain(v, depth + 1) for v in value)
+    if isinstance(value, dict):
+        return len(value) <= 200 and all(isinstance(k, str) and is_plain(v, depth + 1) for k, v in value.items())
+    if dataclasses.is_dataclass(value) and not isinstance(value, type):
+        return type(value).__module__.startswith("abrakit") and all(
+            is_plain(getattr(value, f.name), depth + 1) for f in dataclasses.fields(value))
+    return False
+
+
+# ---- stage 1: harvest --------------------------------------------------------------------------------------------
+class Harvester:
+    """A profiler hook that keeps plain-data calls of the public callables."""
+
+    def __init__(self, per_callable: int = PER_CALLABLE):
+        self.targets = {}
+        for name, obj in public_callables().items():
+            code = _code_of(obj)
+            if code is not None:
+                self.targets[code] = (name, obj)
+        self.per_callable = per_callable
+        self.calls: dict[str, list[dict]] = defaultdict(list)
+        self._seen: set = set()
+
+    def hook(self, frame, event, arg):
+        if event != "call":
+            return
+        target = self.targets.get(frame.f_code)
+        if target is None:
+            return
+        name, obj = target
+        if len(self.calls[name]) >= self.per_callable:
+            return
+        try:
+            signature = inspect.signature(obj)
+        except (TypeError, ValueError):
+            return
+        local = frame.f_locals
+        kwargs = {}
+        for p in signature.parameters.values():
+            if p.kind in (p.VAR_POSITIONAL, p.VAR_KEYWORD) or p.name not in local:
+                return
+            kwargs[p.name] = local[p.name]
+        if not all(is_plain(v) for v in kwargs.values()):
+            return
+        try:
+            key = (name, pickle.dumps(kwargs))
+            if key in self._seen:
+                return
+            self._seen.add(key)
+            self.calls[name].append(copy.deepcopy(kwargs))
+        except Exception:      # noqa: BLE001 - anything that does not pickle is not kept
+            return
+
+
+def harvest(pytest_args=("-q", "-m", "not slow", "-p", "no:cacheprovider", "tests"), out: Path = CATALOGUE) -> dict:
+    """Run the tests under the hook and pickle the calls found (``{name: [kwargs, ...]}``)."""
+    import pytest
+
+    harvester = Harvester()
+    sys.setprofile(harvester.hook)
+    try:
+        pytest.main(list(pytest_args))
+    finally:
+        sys.setprofile(None)
+    calls = {k: [c for c in v if len(pickle.dumps(c)) <= MAX_BYTES] for k, v in harvester.calls.items()}
+    calls = {k: v for k, v in calls.items() if v}
+    out.write_bytes(pickle.dumps(calls, protocol=pickle.HIGHEST_PROTOCOL))
+    return calls
+
+
+def load_catalogue(path: Path = CATALOGUE) -> dict:
+    """The harvested calls, with callables resolved by name; names that no longer exist are dropped."""
+    calls = pickle.loads(Path(path).read_bytes())
+    public = public_callables()
+    return {name: (public[name], kwargs_list) for name, kwargs_list in calls.items() if name in public}
+
+
+# ---- stage 2: fuzz -----------------------------------------------------------------------------------------------
+def finite(value, depth: int = 0) -> bool:
+    """No NaN or infinity anywhere in ``value`` (arrays, numbers, containers, dataclass fields)."""
+    if depth > 4:
+        return True
+    if isinstance(value, bool | str | type(None)):
+        return True
+    if isinstance(value, int | float | np.number):
+        return bool(np.isfinite(value))
+    if isinstance(value, np.ndarray):
+        return value.dtype.kind not in "fc" or bool(np.all(np.isfinite(value)))
+    if isinstance(value, tuple | list):
+        return all(finite(v, depth + 1) for v in value[:1000])
+    if isinstance(value, dict):
+        return all(finite(v, depth + 1) for v in list(value.values())[:1000])
+    if dataclasses.is_dataclass(value) and not isinstance(value, type):
+        return all(finite(getattr(value, f.name), depth + 1) for f in dataclasses.fields(value))
+    return True
+
+
+def invalid_values(value, default):
+    """``(label, bad value)`` for one argument: only values that are invalid for every numeric parameter."""
+    out = []
+    if isinstance(value, bool) or not isinstance(value, int | float | np.number | np.ndarray):
+        return out
+    if isinstance(value, np.ndarray):
+        if value.dtype.kind == "f" and value.size:
+            bad = value.copy()
+            bad.flat[0] = np.nan
+            out.append(("nan entry", bad))
+        return out
+    out.append(("nan", float("nan")))
+    out.append(("string", "abc"))
+    if default is not None:
+        out.append(("none", None))
+    return out
+
+
+class CallTimeout(Exception):
+    """A fuzzed call ran longer than its time limit."""
+
+
+def _alarm(signum, frame):
+    raise CallTimeout
+
+
+def outcome(call, kwargs, parameter, limit: float = 2.0) -> tuple[str, str]:
+    """The class of one invalid call (:data:`OUTCOMES`, or ``"timeout"`` after ``limit`` seconds) and a short
+    description."""
+    previous = signal.signal(signal.SIGALRM, _alarm)
+    signal.setitimer(signal.ITIMER_REAL, limit)
+    try:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            with np.errstate(all="ignore"):
+                result = call(**kwargs)
+    except CallTimeout:
+        return "timeout", f"ran longer than {limit:g} s"
+    except (ValueError, TypeError) as exc:
+        text = str(exc)
+        return ("named" if parameter in text else "unnamed"), f"{type(exc).__name__}: {text[:160]}"
+    except Exception as exc:       # noqa: BLE001 - classifying every escape is the point
+        return "deep", f"{type(exc).__name__}: {str(exc)[:160]}"
+    finally:
+        signal.setitimer(signal.ITIMER_REAL, 0)
+        signal.signal(signal.SIGALRM, previous)
+    return ("accepted" if finite(result) else "non_finite"), ""
+
+
+def fuzz(catalogue: dict, *, slow: float = SLOW_CALL, limit: float = 2.0, skip=()) -> dict:
+    """Replay and mutate the catalogue; counts per outcome, non-finite results of valid calls, and the cases.
+
+    Valid calls slower than ``slow`` seconds are not mutated (listed as ``slow``), a mutated call is stopped after
+    ``limit`` seconds (``timeout``), and the callables named in ``skip`` are left out."""
+    counts = Counter()
+    cases = []
+    valid_non_finite, stale, skipped_slow = [], [], []
+    functions = set()
+    seconds = Counter()
+    for name, (call, kwargs_list) in sorted(catalogue.items()):
+        if name in skip:
+            continue
+        begin = time.perf_counter()
+        try:
+            signature = inspect.signature(call)
+        except (TypeError, ValueError):
+            continue
+        for kwargs in kwargs_list:
+            if set(kwargs) != set(signature.parameters):
+                stale.append(name)
+                continue
+            start = time.perf_counter()
+            try:
+                with warnings.catch_warnings():
+                    warnings.simplefilter("ignore")
+                    result = call(**copy.deepcopy(kwargs))
+            except Exception as exc:   # noqa: BLE001 - a call that no longer works is stale, not a finding
+                stale.append(f"{name}: {type(exc).__name__}")
+                continue
+            if time.perf_counter() - start > slow:
+                skipped_slow.append(name)
+                continue
+            functions.add(name)
+            counts["valid calls"] += 1
+            if not finite(result) and name not in NON_FINITE_BY_DESIGN:
+                valid_non_finite.append(name)
+            for parameter, value in kwargs.items():
+                default = signature.parameters[parameter].default
+                default = None if default is inspect.Parameter.empty else default
+                if (name, parameter) in NAN_ALLOWED:
+                    continue
+                for label, bad in invalid_values(value, default if default is not None else 0.0):
+                    mutated = copy.deepcopy(kwargs)
+                    mutated[parameter] = bad
+                    kind, text = outcome(call, mutated, parameter, limit)
+                    counts[kind] += 1
+                    cases.append({"callable": name, "parameter": parameter, "value": label, "outcome": kind,
+                                  "message": text})
+        seconds[name] = time.perf_counter() - begin
+    counts["invalid calls"] = sum(counts[k] for k in OUTCOMES)
+    return {"functions": len(functions), "counts": {k: counts[k] for k in ("valid calls", "invalid calls",
+                                                                            *OUTCOMES)},
+            "valid_non_finite": sorted(set(valid_non_finite)), "stale": sorted(set(stale)),
+            "slow": sorted(set(skipped_slow)), "seconds": dict(seconds.most_common(20)),
+            "cases": [c for c in cases if c["outcome"] != "named"]}
+
+
+def valid_calls(catalogue: dict, *, slow: float = SLOW_CALL, skip=()) -> list[tuple[str, object, dict]]:
+    """``(name, callable, kwargs)`` of the catalogue's calls that still run, within ``slow`` seconds (a call the
+    tests made inside ``pytest.raises`` is harvested too: it raises here and is dropped)."""
+    out = []
+    for name, (call, kwargs_list) in sorted(catalogue.items()):
+        if name in skip:
+            continue
+        for kwargs in kwargs_list:
+            start = time.perf_counter()
+            try:
+                with warnings.catch_warnings():
+                    warnings.simplefilter("ignore")
+                    call(**copy.deepcopy(kwargs))
+            except Exception:          # noqa: BLE001 - not a valid call (any more)
+                continue
+            if time.perf_counter() - start <= slow:
+                out.append((name, call, kwargs))
+    return out
+
+
+def names_a_parameter(call, text: str) -> bool:
+    """Whether an error message names one of ``call``'s parameters."""
+    try:
+        return any(p in text for p in inspect.signature(call).parameters)
+    except (TypeError, ValueError):
+        return False
+
+
+def report(result: dict) -> str:
+    counts = result["counts"]
+    lines = [f"{result['functions']} callables, {counts['valid calls']} valid calls, "
+             f"{counts['invalid calls']} invalid calls"]
+    lines += [f"  {k:11s} {counts[k]}" for k in OUTCOMES]
+    lines.append(f"  valid calls with NaN/inf results: {len(result['valid_non_finite'])} "
+                 f"{result['valid_non_finite'][:8]}")
+    by = defaultdict(Counter)
+    for case in result["cases"]:
+        if case["outcome"] != "named":
+            by[case["callable"]][case["outcome"]] += 1
+    lines += [f"  {name}: {dict(c)}" for name, c in sorted(by.items())]
+    return "\n".join(lines)
+
+
+if __name__ == "__main__":
+    import argparse
+    import json
+
+    parser = argparse.ArgumentParser(description="Fuzz abrakit's public API with invalid input")
+    parser.add_argument("stage", choices=("harvest", "fuzz"))
+    parser.add_argument("--out", type=Path, default=ROOT / "benchmarks" / "results" / "api_fuzz.json")
+    args = parser.parse_args()
+    if args.stage == "harvest":
+        found = harvest()
+        print(f"harvested {sum(map(len, found.values()))} calls of {len(found)} callables into {CATALOGUE}")
+    else:
+        result = fuzz(load_catalogue())
+        args.out.write_text(json.dumps({k: v for k, v in result.items()}, indent=1, allow_nan=False))
+        print(report(result))
