@@ -31,7 +31,7 @@ from scipy.integrate import solve_ivp
 from scipy.optimize import minimize_scalar
 from scipy.special import wrightomega
 
-from .validation import check_option, check_positive
+from .validation import check_number_fields, check_option, check_positive
 
 __all__ = [
     "SCHEMES",
@@ -84,6 +84,7 @@ class Dissipation:
     r2: float = 0.0
 
     def __post_init__(self):
+        check_number_fields(self)
         object.__setattr__(self, "r1", check_positive("r1", self.r1, allow_zero=True))
         object.__setattr__(self, "r2", check_positive("r2", self.r2, allow_zero=True))
 
@@ -392,6 +393,7 @@ class Damage1D(_Model1D):
     damage_function: str = "exp"
 
     def __post_init__(self):
+        check_number_fields(self)
         object.__setattr__(self, "E", check_positive("E", self.E))
         check_option("damage_function", self.damage_function, ("exp", "quadratic"))
 
@@ -501,6 +503,7 @@ class Plasticity1D(_Model1D):
     K: float = 0.0
 
     def __post_init__(self):
+        check_number_fields(self)
         object.__setattr__(self, "E", check_positive("E", self.E))
         object.__setattr__(self, "K", check_positive("K", self.K, allow_zero=True))
 

@@ -7,6 +7,7 @@ All checks return the (converted) value so they can be used inline::
 
 from __future__ import annotations
 
+import dataclasses
 from collections.abc import Iterable
 
 import numpy as np
@@ -95,3 +96,30 @@ def broadcast_shapes(**arrays) -> tuple:
     except ValueError as exc:
         shapes = ", ".join(f"{k}{np.shape(v)}" for k, v in arrays.items())
         raise ValueError(f"shapes do not broadcast: {shapes}") from exc
+
+
+_NUMBERS = {"float": (int, float, np.integer, np.floating), "int": (int, np.integer)}
+
+
+def check_number_fields(obj) -> None:
+    """Every field of the dataclass ``obj`` annotated ``float`` or ``int`` (or ``float | None``, ``int | None``)
+    holds a real number of that kind that is not NaN (infinity may stand for "no limit"), or ``None`` where the
+    annotation allows it; otherwise ``TypeError`` (not a number) or ``ValueError`` (NaN, a fraction for an integer)
+    naming the field. The annotations are the
+    contract; range checks of single fields follow it in each ``__post_init__``."""
+    for f in dataclasses.fields(obj):
+        annotation = (f.type if isinstance(f.type, str) else getattr(f.type, "__name__", str(f.type))).replace(" ", "")
+        optional = annotation.endswith("|None") or annotation.startswith("None|")
+        kind = annotation.replace("|None", "").replace("None|", "")
+        if kind not in _NUMBERS:
+            continue
+        value = getattr(obj, f.name)
+        if value is None and optional:
+            continue
+        if isinstance(value, bool) or not isinstance(value, _NUMBERS[kind]):
+            allowed = f"a{'n integer' if kind == 'int' else ' real number'}{' or None' if optional else ''}"
+            error = ValueError if isinstance(value, _NUMBERS["float"]) and not isinstance(value, bool) else TypeError
+            raise error(f"{f.name} must be {allowed}, got {value!r}")      # 2.5 for an integer is a wrong value
+        if kind == "float" and np.isnan(value):
+            raise ValueError(f"{f.name} must be a number, got nan")
+

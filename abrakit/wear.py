@@ -29,7 +29,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from abrakit.validation import broadcast_shapes, check_positive, check_range
+from abrakit.validation import broadcast_shapes, check_number_fields, check_positive, check_range
 
 __all__ = [
     "ASTM_G65",
@@ -203,6 +203,7 @@ class Grain:
     f_ab: float
 
     def __post_init__(self):
+        check_number_fields(self)
         check_positive("D", self.D)
         check_positive("A_g", self.A_g)
         check_range("f_ab", self.f_ab, 0.0, 1.0)

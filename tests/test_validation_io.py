@@ -138,3 +138,19 @@ def test_every_stored_result_is_strict_json():
         except ValueError:
             offenders.append(path.relative_to(results))
     assert not offenders, f"non-strict JSON: {offenders[:5]}"
+
+
+def test_number_fields_of_parameter_classes_are_checked_by_their_annotation():
+    from abrakit.fem import StepControl
+    from abrakit.materials import LinearElastic
+    from abrakit.scratch import SphericalIndenter
+
+    with pytest.raises(TypeError, match="radius must be a real number"):
+        SphericalIndenter("0.05")
+    with pytest.raises(ValueError, match="E must be a number, got nan"):
+        LinearElastic(np.nan, 0.3)
+    with pytest.raises(TypeError, match="easy_steps must be an integer"):
+        StepControl(easy_steps=None)
+    with pytest.raises(ValueError, match="easy_steps must be an integer, got 2.5"):
+        StepControl(easy_steps=2.5)
+    assert StepControl(easy_steps=np.int64(3)).easy_steps == 3           # numpy integers are integers

@@ -55,6 +55,17 @@ NAN_ALLOWED = {
                                                                         "(``dropped``)",
 }
 
+#: Records and state containers the toolkit builds and returns: their fields are outputs, checked where they are
+#: computed, and the functions users call to make them (``Particles.spheres``, ``genesis``, ...) check their input.
+RECORDS = {
+    "abrakit.damage.localisation.BarRun", "abrakit.damage.metrics.BandWidth", "abrakit.dem.bonds.ParallelBonds",
+    "abrakit.dem.clumps.Clumps", "abrakit.dem.simulation.EnergyAccount", "abrakit.dem.state.Particles",
+    "abrakit.experiments.compression.CompressionCurve", "abrakit.experiments.specimen.Specimen",
+    "abrakit.fem.pathfollow.PathPoint", "abrakit.fem.problems.ThickCylinderSolution",
+    "abrakit.materials.base.MaterialResponse", "abrakit.materials.plasticity.PlasticStep",
+    "abrakit.dem.neighbours.VerletList",
+}
+
 #: Callables whose valid calls may return a non-finite value, documented in their docstrings, and why.
 NON_FINITE_BY_DESIGN = {
     "abrakit.damage.metrics.softening_displacement": "inf when the force never falls to the fraction (no drop)",
@@ -258,7 +269,7 @@ def fuzz(catalogue: dict, *, slow: float = SLOW_CALL, limit: float = 2.0, skip=(
     functions = set()
     seconds = Counter()
     for name, (call, kwargs_list) in sorted(catalogue.items()):
-        if name in skip:
+        if name in skip or name in RECORDS:
             continue
         begin = time.perf_counter()
         try:

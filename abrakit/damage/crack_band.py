@@ -27,7 +27,7 @@ from ..fem.problems import element_opening, strip
 from ..fem.solver import Solver, StepControl
 from ..materials.anisotropic_damage import AnisotropicSofteningDamage, projected_band_width
 from ..materials.softening_laws import softening_law
-from ..validation import check_option, check_positive, check_range
+from ..validation import check_number_fields, check_option, check_positive, check_range
 from . import metrics
 
 #: Seed 001's material on the steel specimens of Ch. 7 (E, nu of Table 7.1; MPa, N/mm). Seed 001 gives no numbers
@@ -69,6 +69,7 @@ class CrackBandBar:
     dim: int = 2
 
     def __post_init__(self):
+        check_number_fields(self)
         check_range("n", self.n, 1, None)
         check_option("dim", self.dim, (2, 3))
         for name in ("length", "E", "sigma_c", "tau_c", "G_Ic", "G_IIc"):
@@ -159,6 +160,7 @@ class DoubleCantileverBeam:
     softening: str = "linear"
 
     def __post_init__(self):
+        check_number_fields(self)
         for name in ("length", "arm", "E", "sigma_c", "G_Ic", "G_IIc", "element"):
             check_positive(name, getattr(self, name))
         check_range("crack", self.crack, 0.0, self.length, low_open=True, high_open=True)

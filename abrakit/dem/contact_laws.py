@@ -27,7 +27,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from abrakit.validation import check_poisson, check_positive, check_range
+from abrakit.validation import check_number_fields, check_poisson, check_positive, check_range
 
 __all__ = [
     "ContactForces",
@@ -137,6 +137,7 @@ class Linear:
     constant_stiffness = True      # K^n, K^t do not depend on the overlap (the time step needs no geometry)
 
     def __post_init__(self):
+        check_number_fields(self)
         check_range("damping_normal", self.damping_normal, 0.0, None)
         check_range("damping_shear", self.damping_shear, 0.0, None)
 
@@ -186,6 +187,7 @@ class HertzMindlin:
     constant_stiffness = False
 
     def __post_init__(self):
+        check_number_fields(self)
         check_range("damping_normal", self.damping_normal, 0.0, None)
         check_range("damping_shear", self.damping_shear, 0.0, None)
 

@@ -17,7 +17,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from abrakit.validation import check_finite, check_positive, check_range
+from abrakit.validation import check_finite, check_number_fields, check_positive, check_range
 
 __all__ = ["Servo", "Walls"]
 
@@ -137,6 +137,7 @@ class Servo:
     stiffness_floor: float | None = None
 
     def __post_init__(self):
+        check_number_fields(self)
         check_finite("target_stress", self.target_stress)
         check_range("relaxation", self.relaxation, 0.0, 1.0, low_open=True)
         if np.isfinite(self.max_speed):

@@ -46,7 +46,7 @@ from abrakit.experiments.disk_packing import disk_packing, fuller_radii
 from abrakit.experiments.specimen import cache_dir
 from abrakit.fatigue.bond_law import BondParameters
 from abrakit.io import RunRecord, VtuSeries, load_state, save_state
-from abrakit.validation import check_option, check_positive, check_range
+from abrakit.validation import check_number_fields, check_option, check_positive, check_range
 
 __all__ = ["Beam", "BeamSpec", "beam_theory_deflection", "cyclic_bending", "flexural", "four_point_beam",
            "monotonic_bending", "table_two", "uniaxial_modulus"]
@@ -80,6 +80,7 @@ class BeamSpec:
     radius_ratio: float = 3.0
 
     def __post_init__(self):
+        check_number_fields(self)
         for name in ("length", "height", "width", "span", "roller_spacing", "radius", "density"):
             check_positive(name, getattr(self, name))
         check_range("dispersion", self.dispersion, 0.0, 0.5, high_open=True)

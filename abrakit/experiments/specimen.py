@@ -52,7 +52,7 @@ from abrakit.dem import (
 )
 from abrakit.dem.measure import contact_counts, relax, unbalanced_force_ratio
 from abrakit.io import dumps, loads, write_atomically
-from abrakit.validation import check_option, check_positive, check_range
+from abrakit.validation import check_number_fields, check_option, check_positive, check_range
 
 __all__ = [
     "GENESIS_VERSION",
@@ -101,6 +101,7 @@ class Material:
     bond_gap: float = 1e-3
 
     def __post_init__(self):
+        check_number_fields(self)
         check_positive("youngs_modulus", self.youngs_modulus)
         check_positive("stiffness_ratio", self.stiffness_ratio)
         check_range("friction", self.friction, 0.0, None)
@@ -160,6 +161,7 @@ class SpecimenSpec:
     shapes: tuple = (1.0, 0.0, 0.0)
 
     def __post_init__(self):
+        check_number_fields(self)
         object.__setattr__(self, "shapes", tuple(float(f) for f in self.shapes))
         if len(self.shapes) != 3 or min(self.shapes) < 0 or not np.isclose(sum(self.shapes), 1.0):
             raise ValueError(f"shapes must be three fractions (spheres, dyads, peanuts) summing to 1, "

@@ -38,7 +38,7 @@ from dataclasses import asdict, dataclass
 
 import numpy as np
 
-from abrakit.validation import check_finite, check_positive, check_range
+from abrakit.validation import check_finite, check_number_fields, check_positive, check_range
 
 __all__ = ["BondParameters", "bond_stresses", "criterion", "damage_after", "flow_direction", "plastic_return"]
 
@@ -74,6 +74,7 @@ class BondParameters:
     initial_damage: float = 0.01
 
     def __post_init__(self):
+        check_number_fields(self)
         for name in ("kn", "ks", "tensile_strength", "cohesion", "un", "us", "paris_exponent", "paris_coefficient",
                      "width"):
             check_positive(name, getattr(self, name))

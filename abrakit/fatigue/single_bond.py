@@ -21,7 +21,7 @@ import numpy as np
 
 from abrakit.fatigue.bond_law import BondParameters, criterion, plastic_return
 from abrakit.fatigue.paris import cycle_update
-from abrakit.validation import check_option, check_positive, check_range
+from abrakit.validation import check_number_fields, check_option, check_positive, check_range
 
 __all__ = ["BondTest", "cyclic_test", "monotonic_test", "softening_energy"]
 
@@ -50,6 +50,7 @@ class BondTest:
     cycle_fatigue: list = field(default_factory=list)
 
     def __post_init__(self):
+        check_number_fields(self)
         check_option("mode", self.mode, MODES)
         self.damage = self.p.initial_damage
         self._record(0.0)

@@ -58,7 +58,7 @@ import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
 from ..io import progress_bar
-from ..validation import check_option, check_positive, check_range
+from ..validation import check_number_fields, check_option, check_positive, check_range
 from .linsolve import LinearSolveError
 from .solver import NewtonFailure, Solver, SolveResult, StepContext, StepFailed, _Recorder
 
@@ -255,6 +255,7 @@ class PathControl:
     max_steps: int = 2000
 
     def __post_init__(self):
+        check_number_fields(self)
         check_range("initial", self.initial, 0.0, None, low_open=True)
         check_range("maximum", self.maximum, self.initial, None)
         check_range("minimum", self.minimum, 0.0, self.initial, low_open=True)

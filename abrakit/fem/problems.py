@@ -18,7 +18,7 @@ import skfem
 from scipy.optimize import brentq
 
 from ..materials import TABLE_7_1
-from ..validation import check_finite, check_option, check_positive, check_range
+from ..validation import check_finite, check_number_fields, check_option, check_positive, check_range
 from . import meshes
 from .boundary import Dirichlet, surface_load
 from .kinematics import vector_basis
@@ -200,6 +200,7 @@ class SofteningBar:
     strength: float = 1.5
 
     def __post_init__(self):
+        check_number_fields(self)
         check_range("n", self.n, 1, None)
         check_positive("length", self.length)
         check_positive("E", self.E)

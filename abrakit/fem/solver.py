@@ -35,7 +35,7 @@ import scipy.sparse as sp
 
 from ..io import progress_bar
 from ..materials.base import Material
-from ..validation import check_positive, check_range
+from ..validation import check_number_fields, check_positive, check_range
 from .assembly import Assembler
 from .boundary import Constraints, Dirichlet
 from .kinematics import Kinematics
@@ -63,6 +63,7 @@ class StepControl:
     lift: bool = True
 
     def __post_init__(self):
+        check_number_fields(self)
         check_range("minimum", self.minimum, 0.0, None, low_open=True)
         check_range("maximum", self.maximum, self.minimum, None)
         check_range("initial", self.initial, self.minimum, self.maximum)
@@ -83,6 +84,7 @@ class NewtonOptions:
     stabilization: float = 1e-9   # floor of the tangent diagonal, relative to its largest entry
 
     def __post_init__(self):
+        check_number_fields(self)
         for name in ("residual_tol", "increment_tol", "exact_tol", "absolute_force"):
             check_positive(name, getattr(self, name))
         check_range("max_iterations", self.max_iterations, 1, None)

@@ -58,7 +58,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .. import tensors as T
-from ..validation import check_option, check_positive, check_range, check_shape
+from ..validation import check_number_fields, check_option, check_positive, check_range, check_shape
 from .base import IsotropicElasticity, MaterialResponse, check_strain
 from .softening_laws import max_band_width, softening_law
 
@@ -190,6 +190,7 @@ class AnisotropicSofteningDamage(IsotropicElasticity):
     crack_normal: np.ndarray | None = None
 
     def __post_init__(self):
+        check_number_fields(self)
         check_positive("E", self.E)
         for name in ("sigma_c", "tau_c", "G_Ic", "G_IIc"):
             object.__setattr__(self, name, check_positive(name, getattr(self, name)))

@@ -6,7 +6,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..validation import check_poisson, check_positive
+from ..validation import check_number_fields, check_poisson, check_positive
 from .base import IsotropicElasticity, MaterialResponse, check_strain
 
 
@@ -21,6 +21,7 @@ class LinearElastic(IsotropicElasticity):
     nu: float
 
     def __post_init__(self):
+        check_number_fields(self)
         object.__setattr__(self, "E", check_positive("E", self.E))
         object.__setattr__(self, "nu", check_poisson("nu", self.nu))
         self._init_elasticity()

@@ -27,7 +27,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..validation import check_option, check_poisson, check_positive, check_range
+from ..validation import check_number_fields, check_option, check_poisson, check_positive, check_range
 from .base import IsotropicElasticity, MaterialResponse, check_strain
 from .plasticity import INTEGRATIONS, plastic_step
 
@@ -95,6 +95,7 @@ class ModelIDamage(IsotropicElasticity):
     f_min: float = 1e-6
 
     def __post_init__(self):
+        check_number_fields(self)
         object.__setattr__(self, "E", check_positive("E", self.E))
         object.__setattr__(self, "nu", check_poisson("nu", self.nu))
         object.__setattr__(self, "r_d", check_positive("r_d", self.r_d))

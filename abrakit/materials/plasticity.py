@@ -31,7 +31,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..validation import check_option, check_poisson, check_positive
+from ..validation import check_number_fields, check_option, check_poisson, check_positive
 from .base import DEVIATORIC, IsotropicElasticity, MaterialResponse, check_strain, deviator, outer
 
 INTEGRATIONS = ("explicit", "implicit")
@@ -126,6 +126,7 @@ class VonMisesPlasticity(IsotropicElasticity):
     integration: str = "implicit"
 
     def __post_init__(self):
+        check_number_fields(self)
         object.__setattr__(self, "E", check_positive("E", self.E))
         object.__setattr__(self, "nu", check_poisson("nu", self.nu))
         object.__setattr__(self, "r_p", check_positive("r_p", self.r_p))

@@ -25,7 +25,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..validation import check_poisson, check_positive, check_range
+from ..validation import check_number_fields, check_poisson, check_positive, check_range
 from .base import IsotropicElasticity, MaterialResponse, check_strain, outer
 
 
@@ -42,6 +42,7 @@ class LinearSofteningDamage(IsotropicElasticity):
     d_max: float = 1.0 - 1e-9
 
     def __post_init__(self):
+        check_number_fields(self)
         object.__setattr__(self, "E", check_positive("E", self.E))
         object.__setattr__(self, "nu", check_poisson("nu", self.nu))
         eps_0 = np.asarray(check_positive("eps_0", self.eps_0), dtype=float)

@@ -27,7 +27,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy import special
 
-from ..validation import check_option, check_positive, check_range
+from ..validation import check_number_fields, check_option, check_positive, check_range
 
 P_RANGE = (0.001, 0.999)
 DISTRIBUTIONS = ("normal", "weibull")
@@ -81,6 +81,7 @@ class StrengthStatistics:
     seed: int | None = None
 
     def __post_init__(self):
+        check_number_fields(self)
         check_option("distribution", self.distribution, DISTRIBUTIONS)
         check_option("mode", self.mode, MODES)
         if self.distribution == "normal":

@@ -22,7 +22,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from abrakit.validation import check_finite, check_positive, check_range, check_shape
+from abrakit.validation import check_finite, check_number_fields, check_positive, check_range, check_shape
 
 __all__ = [
     "ConicalIndenter",
@@ -75,6 +75,7 @@ class SphericalIndenter:
     radius: float
 
     def __post_init__(self):
+        check_number_fields(self)
         check_positive("radius", self.radius)
 
     def gap(self, points, tip) -> SurfaceGap:
@@ -125,6 +126,7 @@ class ConicalIndenter:
     half_angle: float
 
     def __post_init__(self):
+        check_number_fields(self)
         check_positive("radius", self.radius)
         check_range("half_angle", self.half_angle, 0.0, 90.0, low_open=True, high_open=True)
 
@@ -226,6 +228,7 @@ class ScratchPath:
     unload: bool = True
 
     def __post_init__(self):
+        check_number_fields(self)
         check_positive("depth", self.depth)
         check_positive("slide", self.slide, allow_zero=True)
         check_finite("z_start", self.z_start)

@@ -63,7 +63,7 @@ from abrakit.scratch.groove import (
 from abrakit.scratch.hertz import hertz_sphere
 from abrakit.scratch.indenters import ConicalIndenter, FineZone, ScratchPath, SphericalIndenter, check_path
 from abrakit.scratch.record import PHASES, ScratchRecorder
-from abrakit.validation import check_option, check_positive, check_range
+from abrakit.validation import check_number_fields, check_option, check_positive, check_range
 
 __all__ = [
     "GrooveBalance",
@@ -189,6 +189,7 @@ class SpecimenMesh:
     fine_z: tuple[float, float] | None = None
 
     def __post_init__(self):
+        check_number_fields(self)
         check_positive("h", self.h)
         for name in ("h_z", "h_y"):
             if getattr(self, name) is not None:
@@ -268,6 +269,7 @@ class ScratchScene:
     hardening: float = ST52["hardening"]
 
     def __post_init__(self):
+        check_number_fields(self)
         check_positive("depth", self.depth)
         check_positive("slide", self.slide, allow_zero=True)
         check_positive("mu", self.mu, allow_zero=True)
