@@ -47,3 +47,16 @@ def test_an_executed_chapter_is_offered_as_a_notebook(tmp_path):
     plain = {"sourcename": "api.rst"}
     ext.offer_notebook(app, "api", "page.html", plain, None)           # no executed notebook: nothing offered
     assert "ipynb_source" not in plain
+
+
+def test_every_figure_of_the_book_has_a_caption_and_a_name():
+    import re
+
+    missing = []
+    for chapter in sorted(BOOK.glob("*.md")):
+        for cell in re.finditer(r"```\{code-cell\} ipython3\n(.*?)```", chapter.read_text(), re.S):
+            body = cell.group(1)
+            if ("plt.subplots" in body or "plt.figure" in body) and not re.search(
+                    r"^mystnb:\n  figure:\n    caption: .+\n(?:.+\n)*?    name: fig-", body, re.M):
+                missing.append(f"{chapter.name}: {body.splitlines()[0][:60]}")
+    assert missing == [], missing
