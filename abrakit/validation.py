@@ -8,6 +8,8 @@ All checks return the (converted) value so they can be used inline::
 from __future__ import annotations
 
 import dataclasses
+import functools
+import inspect
 from collections.abc import Iterable
 
 import numpy as np
@@ -101,25 +103,58 @@ def broadcast_shapes(**arrays) -> tuple:
 _NUMBERS = {"float": (int, float, np.integer, np.floating), "int": (int, np.integer)}
 
 
+def _number_kind(annotation) -> tuple[str, bool] | None:
+    """``("float" | "int", optional)`` for an annotation ``float``, ``int``, ``float | None``, ``int | None``."""
+    text = (annotation if isinstance(annotation, str) else getattr(annotation, "__name__", str(annotation)))
+    text = text.replace(" ", "")
+    optional = text.endswith("|None") or text.startswith("None|")
+    kind = text.replace("|None", "").replace("None|", "")
+    return (kind, optional) if kind in _NUMBERS else None
+
+
+def _check_number(name: str, value, kind: str, optional: bool) -> None:
+    """A number of ``kind`` (or an array of them for ``float``) without NaN, or ``None`` if ``optional``."""
+    if value is None and optional:
+        return
+    allowed = f"a{'n integer' if kind == 'int' else ' real number'}{' or None' if optional else ''}"
+    if kind == "float" and isinstance(value, np.ndarray | list | tuple) and not isinstance(value, bool):
+        try:                                           # vectorised functions take arrays where a float is annotated
+            array = np.asarray(value, dtype=float)
+        except (TypeError, ValueError) as exc:
+            raise TypeError(f"{name} must be {allowed} or an array of them, got {value!r}") from exc
+        if np.any(np.isnan(array)):
+            raise ValueError(f"{name} must not hold NaN")
+        return
+    if isinstance(value, bool) or not isinstance(value, _NUMBERS[kind]):
+        error = ValueError if isinstance(value, _NUMBERS["float"]) and not isinstance(value, bool) else TypeError
+        raise error(f"{name} must be {allowed}, got {value!r}")      # 2.5 for an integer is a wrong value
+    if kind == "float" and np.isnan(value):
+        raise ValueError(f"{name} must be a number, got nan")
+
+
 def check_number_fields(obj) -> None:
     """Every field of the dataclass ``obj`` annotated ``float`` or ``int`` (or ``float | None``, ``int | None``)
     holds a real number of that kind that is not NaN (infinity may stand for "no limit"), or ``None`` where the
     annotation allows it; otherwise ``TypeError`` (not a number) or ``ValueError`` (NaN, a fraction for an integer)
-    naming the field. The annotations are the
-    contract; range checks of single fields follow it in each ``__post_init__``."""
+    naming the field. The annotations are the contract; range checks of single fields follow it in each
+    ``__post_init__``."""
     for f in dataclasses.fields(obj):
-        annotation = (f.type if isinstance(f.type, str) else getattr(f.type, "__name__", str(f.type))).replace(" ", "")
-        optional = annotation.endswith("|None") or annotation.startswith("None|")
-        kind = annotation.replace("|None", "").replace("None|", "")
-        if kind not in _NUMBERS:
-            continue
-        value = getattr(obj, f.name)
-        if value is None and optional:
-            continue
-        if isinstance(value, bool) or not isinstance(value, _NUMBERS[kind]):
-            allowed = f"a{'n integer' if kind == 'int' else ' real number'}{' or None' if optional else ''}"
-            error = ValueError if isinstance(value, _NUMBERS["float"]) and not isinstance(value, bool) else TypeError
-            raise error(f"{f.name} must be {allowed}, got {value!r}")      # 2.5 for an integer is a wrong value
-        if kind == "float" and np.isnan(value):
-            raise ValueError(f"{f.name} must be a number, got nan")
+        rule = _number_kind(f.type)
+        if rule is not None:
+            _check_number(f.name, getattr(obj, f.name), *rule)
 
+
+def number_arguments(func):
+    """Decorator: the arguments of ``func`` annotated ``float`` or ``int`` (or ``... | None``) are checked on every
+    call as :func:`check_number_fields` checks fields (a ``float`` argument may also be an array without NaN)."""
+    signature = inspect.signature(func)
+    rules = {name: rule for name, p in signature.parameters.items() if (rule := _number_kind(p.annotation))}
+
+    @functools.wraps(func)
+    def checked(*args, **kwargs):
+        for name, value in signature.bind(*args, **kwargs).arguments.items():
+            if name in rules:
+                _check_number(name, value, *rules[name])
+        return func(*args, **kwargs)
+
+    return checked

@@ -154,3 +154,25 @@ def test_number_fields_of_parameter_classes_are_checked_by_their_annotation():
     with pytest.raises(ValueError, match="easy_steps must be an integer, got 2.5"):
         StepControl(easy_steps=2.5)
     assert StepControl(easy_steps=np.int64(3)).easy_steps == 3           # numpy integers are integers
+
+
+def test_number_arguments_checks_annotated_arguments_and_keeps_arrays():
+    from abrakit.fem import meshes
+    from abrakit.materials.driver import ramp
+    from abrakit.validation import number_arguments
+
+    with pytest.raises(TypeError, match="n_radial must be an integer"):
+        meshes.ring_sector(n_radial="3")
+    with pytest.raises(ValueError, match="angle must be a number, got nan"):
+        meshes.ring_sector(angle=np.nan)
+    with pytest.raises(ValueError, match="n_steps must be an integer, got 2.5"):
+        ramp(1.0, 2.5)
+
+    @number_arguments
+    def scaled(x: float, factor: float | None = None):
+        return np.asarray(x) * (factor or 1.0)
+
+    assert np.array_equal(scaled(np.arange(3.0), 2.0), [0.0, 2.0, 4.0])        # arrays where a float is annotated
+    with pytest.raises(ValueError, match="x must not hold NaN"):
+        scaled(np.array([1.0, np.nan]))
+    assert scaled.__wrapped__.__name__ == "scaled"

@@ -97,7 +97,8 @@ def public_callables() -> dict[str, object]:
 
 
 def _code_of(obj):
-    target = obj.__init__ if inspect.isclass(obj) else obj
+    """The code object that runs when ``obj`` is called (a decorated function's own, not its wrapper's)."""
+    target = obj.__init__ if inspect.isclass(obj) else inspect.unwrap(obj)
     return getattr(target, "__code__", None)
 
 

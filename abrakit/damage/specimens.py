@@ -52,7 +52,7 @@ import numpy as np
 import skfem
 
 from ..fem import Dirichlet, meshes, node_row_dofs, vector_basis
-from ..validation import check_option, check_positive, check_range
+from ..validation import check_option, check_positive, check_range, number_arguments
 
 #: Element targets of the named mesh levels (the seed: 900-1010, 4033-4080, 8014-8477 elements).
 LEVELS = {"coarse": 1000, "medium": 4000, "fine": 8000}
@@ -113,6 +113,7 @@ class Specimen:
 
 
 # ---- meshes refined along the damage band -------------------------------------------------------------------------
+@number_arguments
 def plate_with_hole_mesh(n_angular: int, n_radial: int, *, width: float = 50.0, height: float = 50.0,
                          radius: float = 10.0, angular_grading: float = 8.0, radial_grading: float = 2.0):
     """Quarter plate with a hole, rays from the hole to the outer edges, refined towards the ligament y = 0.
@@ -132,6 +133,7 @@ def plate_with_hole_mesh(n_angular: int, n_radial: int, *, width: float = 50.0, 
                                   grading=radial_grading, angles=theta)
 
 
+@number_arguments
 def sharp_notch_mesh(n_x: int, n_y: int, *, width: float = 50.0, height: float = 40.0, notch: float = 25.0,
                      grading_y: float = 8.0, grading_left: float = 4.0, grading_right: float = 2.0):
     """Upper half ``[0, width] x [0, height/2]`` of the sharp-notch specimen, refined along the ligament.
@@ -159,6 +161,7 @@ def sharp_notch_mesh(n_x: int, n_y: int, *, width: float = 50.0, height: float =
     })
 
 
+@number_arguments
 def double_notched_mesh(h: float, *, width: float = 50.0, height: float = 100.0, notch_depth: float = 10.0,
                         notch_width: float = 2.0, offset: float = 10.0, margin: float = 10.0, growth: float = 1.25):
     """Strip ``width`` x ``height`` with two rectangular edge notches at mid-height +/- ``offset``, refined between.

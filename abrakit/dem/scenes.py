@@ -45,7 +45,9 @@ def impact_analytic(kn, mass, velocity, damping_ratio=0.0, local_damping=0.0) ->
     (v₀/ω₀) exp(−ζφ/√(1−ζ²)) with φ = atan2(√(1−ζ²), ζ). Local damping α instead: loading runs at ω₀√(1+α),
     unloading at ω₀√(1−α), so e = √((1−α)/(1+α)) and the peak overlap is v₀/(ω₀√(1+α)).
     """
-    zeta, alpha = check_range("damping_ratio", damping_ratio, 0.0, 1.0, high_open=True), local_damping
+    zeta = check_range("damping_ratio", damping_ratio, 0.0, 1.0, high_open=True)
+    alpha = check_range("local_damping", local_damping, 0.0, 1.0, high_open=True)
+    kn, mass, velocity = check_positive("kn", kn), check_positive("mass", mass), check_finite("velocity", velocity)
     w0 = np.sqrt(kn / mass)
     if alpha:
         up, down = w0 * np.sqrt(1 + alpha), w0 * np.sqrt(1 - alpha)

@@ -22,7 +22,7 @@ from dataclasses import dataclass
 import numpy as np
 import skfem
 
-from ..validation import check_positive, check_range
+from ..validation import check_positive, check_range, number_arguments
 
 _TOL = 1e-9
 
@@ -58,6 +58,7 @@ def _tag(mesh, **boundaries):
     return mesh.with_boundaries(boundaries)
 
 
+@number_arguments
 def plate_with_hole(width: float = 50.0, height: float = 50.0, radius: float = 10.0, n_angular: int = 16,
                     n_radial: int = 12, grading: float = 4.0, triangles: bool = False, angles=None, order: int = 1):
     """Quarter of a plate with a central hole: [0, width] x [0, height] minus the disc of ``radius`` at 0.
@@ -113,6 +114,7 @@ def plate_with_hole(width: float = 50.0, height: float = 50.0, radius: float = 1
                 top=lambda x: x[1] > height * (1 - _TOL))
 
 
+@number_arguments
 def ring_sector(inner: float = 10.0, outer: float = 20.0, n_radial: int = 10, n_angular: int = 12,
                 angle: float = np.pi / 2, grading: float = 1.0):
     """Sector ``inner <= r <= outer``, ``0 <= theta <= angle`` of a thick cylinder (plane strain cross-section).

@@ -18,7 +18,15 @@ import skfem
 from scipy.optimize import brentq
 
 from ..materials import TABLE_7_1
-from ..validation import check_finite, check_number_fields, check_option, check_positive, check_range
+from ..validation import (
+    check_finite,
+    check_number_fields,
+    check_option,
+    check_poisson,
+    check_positive,
+    check_range,
+    number_arguments,
+)
 from . import meshes
 from .boundary import Dirichlet, surface_load
 from .kinematics import vector_basis
@@ -130,6 +138,8 @@ def thick_cylinder_solution(inner, outer, E, nu, yield_stress) -> ThickCylinderS
 
 def kirsch_displacement(x, y, *, remote_stress, radius, E, nu):
     """Plane-strain displacement (mm) of an infinite plate with a hole of ``radius`` under remote sigma_xx."""
+    x, y, remote_stress = check_finite("x", x), check_finite("y", y), check_finite("remote_stress", remote_stress)
+    radius, E, nu = check_positive("radius", radius), check_positive("E", E), check_poisson("nu", nu)
     mu, kappa = E / (2 * (1 + nu)), 3 - 4 * nu
     r, th = np.hypot(x, y), np.arctan2(y, x)
     s, a = remote_stress / (4 * mu), radius
@@ -141,7 +151,8 @@ def kirsch_displacement(x, y, *, remote_stress, radius, E, nu):
 
 def kirsch_stress(x, y, *, remote_stress, radius):
     """Kirsch stresses (sigma_xx, sigma_yy, sigma_xy) in MPa; sigma_xx = 3 sigma at (0, radius)."""
-    x, y = check_finite("x", x), check_finite("y", y)
+    x, y, remote_stress = check_finite("x", x), check_finite("y", y), check_finite("remote_stress", remote_stress)
+    radius = check_positive("radius", radius)
     r, th = np.hypot(x, y), np.arctan2(y, x)
     s, q2, q4 = remote_stress / 2, (radius / r) ** 2, (radius / r) ** 4
     c2, s2 = np.cos(2 * th), np.sin(2 * th)
@@ -154,6 +165,7 @@ def kirsch_stress(x, y, *, remote_stress, radius):
             (s_rr - s_tt) * sn * c + s_rt * (c * c - sn * sn))
 
 
+@number_arguments
 def strip(length: float, n: int, dim: int = 2) -> skfem.Mesh:
     """A bar ``length`` × 1 (× 1 in 3D) mm of ``n`` bilinear (trilinear) elements along x, with the boundaries
     ``left`` (x = 0), ``right`` (x = length), ``bottom`` (y = 0) and, in 3D, ``back`` (z = 0)."""

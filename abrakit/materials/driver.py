@@ -20,7 +20,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .. import tensors as T
-from ..validation import check_positive
+from ..validation import check_positive, number_arguments
 from .base import finite_difference_tangent
 
 _COMPONENTS = {"11": 0, "22": 1, "33": 2, "23": 3, "13": 4, "12": 5, "32": 3, "31": 4, "21": 5}
@@ -66,6 +66,7 @@ class DriverError(RuntimeError):
     """Raised when the mixed-control Newton iteration of a step does not converge."""
 
 
+@number_arguments
 def ramp(peak, n_steps: int) -> np.ndarray:
     """``n_steps`` equal increments from 0 to ``peak`` (the values after each step)."""
     if n_steps < 1:
@@ -73,6 +74,7 @@ def ramp(peak, n_steps: int) -> np.ndarray:
     return np.linspace(0.0, 1.0, n_steps + 1)[1:] * peak
 
 
+@number_arguments
 def cycles(amplitude: float, n_cycles: int, steps_per_quarter: int, mean: float = 0.0) -> np.ndarray:
     """Symmetric triangle wave ``mean -> mean + a -> mean - a -> mean`` repeated ``n_cycles`` times."""
     if n_cycles < 1 or steps_per_quarter < 1:

@@ -25,7 +25,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..validation import check_option
+from ..validation import check_option, check_positive
 
 
 @dataclass(frozen=True)
@@ -91,4 +91,6 @@ def softening_law(name: str):
 
 def max_band_width(law, modulus, strength, toughness):
     """``h_max = factor M G_c / sigma_c^2`` (mm): the widest crack band without a local snap-back."""
+    modulus, strength = check_positive("modulus", modulus), check_positive("strength", strength)
+    toughness = check_positive("toughness", toughness)
     return law.band_factor * np.asarray(modulus) * np.asarray(toughness) / np.asarray(strength) ** 2

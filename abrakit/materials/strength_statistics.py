@@ -48,11 +48,13 @@ def weibull_cdf(r, shape, V0=1.0, Vp=1.0):
 
 def weibull_mean(shape, V0=1.0, Vp=1.0):
     """``<r> = (V_0/V_p)^(1/alpha)``."""
+    shape, V0, Vp = check_positive("shape", shape), check_positive("V0", V0), check_positive("Vp", Vp)
     return (V0 / Vp) ** (1.0 / shape)
 
 
 def weibull_cv(shape):
     """``C_v = sqrt(Gamma(1 + 2/alpha)/Gamma(1 + 1/alpha)^2 - 1)``."""
+    shape = check_positive("shape", shape)
     return np.sqrt(special.gamma(1.0 + 2.0 / shape) / special.gamma(1.0 + 1.0 / shape) ** 2 - 1.0)
 
 
