@@ -259,6 +259,30 @@ def outcome(call, kwargs, parameter, limit: float = 2.0) -> tuple[str, str]:
     return ("accepted" if finite(result) else "non_finite"), ""
 
 
+def replay(catalogue: dict, *, slow: float = SLOW_CALL, skip=()):
+    """Run every call of the catalogue once; yield ``(name, call, kwargs, status, result)`` with ``status`` "ok",
+    "slow" (ran longer than ``slow`` seconds) or "stale" (no longer runs: also a call the tests made inside
+    ``pytest.raises``, which is harvested too; ``result`` then names the exception). Records and the callables in
+    ``skip`` are left out."""
+    for name, (call, kwargs_list) in sorted(catalogue.items()):
+        if name in skip or name in RECORDS:
+            continue
+        parameters = set(inspect.signature(call).parameters)
+        for kwargs in kwargs_list:
+            if set(kwargs) != parameters:
+                yield name, call, kwargs, "stale", "signature changed"
+                continue
+            start = time.perf_counter()
+            try:
+                with warnings.catch_warnings():
+                    warnings.simplefilter("ignore")
+                    result = call(**copy.deepcopy(kwargs))
+            except Exception as exc:   # noqa: BLE001 - a call that no longer works is stale, not a finding
+                yield name, call, kwargs, "stale", type(exc).__name__
+                continue
+            yield name, call, kwargs, ("slow" if time.perf_counter() - start > slow else "ok"), result
+
+
 def fuzz(catalogue: dict, *, slow: float = SLOW_CALL, limit: float = 2.0, skip=()) -> dict:
     """Replay and mutate the catalogue; counts per outcome, non-finite results of valid calls, and the cases.
 
@@ -268,73 +292,41 @@ def fuzz(catalogue: dict, *, slow: float = SLOW_CALL, limit: float = 2.0, skip=(
     cases = []
     valid_non_finite, stale, skipped_slow = [], [], []
     functions = set()
-    seconds = Counter()
-    for name, (call, kwargs_list) in sorted(catalogue.items()):
-        if name in skip or name in RECORDS:
+    for name, call, kwargs, status, result in replay(catalogue, slow=slow, skip=skip):
+        if status == "stale":
+            stale.append(f"{name}: {result}")
             continue
-        begin = time.perf_counter()
-        try:
-            signature = inspect.signature(call)
-        except (TypeError, ValueError):
+        if status == "slow":
+            skipped_slow.append(name)
             continue
-        for kwargs in kwargs_list:
-            if set(kwargs) != set(signature.parameters):
-                stale.append(name)
+        functions.add(name)
+        counts["valid calls"] += 1
+        if not finite(result) and name not in NON_FINITE_BY_DESIGN:
+            valid_non_finite.append(name)
+        signature = inspect.signature(call)
+        for parameter, value in kwargs.items():
+            if (name, parameter) in NAN_ALLOWED:
                 continue
-            start = time.perf_counter()
-            try:
-                with warnings.catch_warnings():
-                    warnings.simplefilter("ignore")
-                    result = call(**copy.deepcopy(kwargs))
-            except Exception as exc:   # noqa: BLE001 - a call that no longer works is stale, not a finding
-                stale.append(f"{name}: {type(exc).__name__}")
-                continue
-            if time.perf_counter() - start > slow:
-                skipped_slow.append(name)
-                continue
-            functions.add(name)
-            counts["valid calls"] += 1
-            if not finite(result) and name not in NON_FINITE_BY_DESIGN:
-                valid_non_finite.append(name)
-            for parameter, value in kwargs.items():
-                default = signature.parameters[parameter].default
-                default = None if default is inspect.Parameter.empty else default
-                if (name, parameter) in NAN_ALLOWED:
-                    continue
-                for label, bad in invalid_values(value, default if default is not None else 0.0):
-                    mutated = copy.deepcopy(kwargs)
-                    mutated[parameter] = bad
-                    kind, text = outcome(call, mutated, parameter, limit)
-                    counts[kind] += 1
-                    cases.append({"callable": name, "parameter": parameter, "value": label, "outcome": kind,
-                                  "message": text})
-        seconds[name] = time.perf_counter() - begin
+            default = signature.parameters[parameter].default
+            default = None if default is inspect.Parameter.empty else default
+            for label, bad in invalid_values(value, default if default is not None else 0.0):
+                mutated = copy.deepcopy(kwargs)
+                mutated[parameter] = bad
+                kind, text = outcome(call, mutated, parameter, limit)
+                counts[kind] += 1
+                cases.append({"callable": name, "parameter": parameter, "value": label, "outcome": kind,
+                              "message": text})
     counts["invalid calls"] = sum(counts[k] for k in OUTCOMES)
     return {"functions": len(functions), "counts": {k: counts[k] for k in ("valid calls", "invalid calls",
                                                                             *OUTCOMES)},
             "valid_non_finite": sorted(set(valid_non_finite)), "stale": sorted(set(stale)),
-            "slow": sorted(set(skipped_slow)), "seconds": dict(seconds.most_common(20)),
-            "cases": [c for c in cases if c["outcome"] != "named"]}
+            "slow": sorted(set(skipped_slow)), "cases": [c for c in cases if c["outcome"] != "named"]}
 
 
 def valid_calls(catalogue: dict, *, slow: float = SLOW_CALL, skip=()) -> list[tuple[str, object, dict]]:
-    """``(name, callable, kwargs)`` of the catalogue's calls that still run, within ``slow`` seconds (a call the
-    tests made inside ``pytest.raises`` is harvested too: it raises here and is dropped)."""
-    out = []
-    for name, (call, kwargs_list) in sorted(catalogue.items()):
-        if name in skip:
-            continue
-        for kwargs in kwargs_list:
-            start = time.perf_counter()
-            try:
-                with warnings.catch_warnings():
-                    warnings.simplefilter("ignore")
-                    call(**copy.deepcopy(kwargs))
-            except Exception:          # noqa: BLE001 - not a valid call (any more)
-                continue
-            if time.perf_counter() - start <= slow:
-                out.append((name, call, kwargs))
-    return out
+    """``(name, callable, kwargs)`` of the catalogue's calls that still run within ``slow`` seconds."""
+    return [(name, call, kwargs) for name, call, kwargs, status, _ in replay(catalogue, slow=slow, skip=skip)
+            if status == "ok"]
 
 
 def names_a_parameter(call, text: str) -> bool:
