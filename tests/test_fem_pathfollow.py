@@ -184,3 +184,48 @@ def test_path_following_warns_when_it_runs_out_of_steps():
     bar = SofteningBar(50)
     with pytest.warns(RuntimeWarning, match="max_steps"):
         bar.solver(path=PathControl(max_steps=5)).run(stop_force=1e-3, progress=False)
+
+
+class Interrupted(Exception):
+    """Stands for a killed process: raised from ``on_step`` after a chosen step."""
+
+
+@pytest.mark.parametrize("method, stop_after", [("dissipation", 23), ("arc-length", 7)])
+def test_an_interrupted_path_following_run_resumes_with_the_uninterrupted_curve(tmp_path, method, stop_after):
+    """Killed after a step past the switch to dissipation control (or under arc length) with checkpoints every
+    5 steps: the rerun continues with the checkpoint's constraint, targets and counters and ends on the curve of
+    a run never stopped; a finished run's rerun returns at once."""
+    if method == "dissipation":
+        bar = SofteningBar(50)
+
+        def make():
+            return bar.solver(load="displacement", path=PathControl(dissipation=bar.fracture_energy / 40))
+        options = {"stop_force": 1e-3}
+    else:
+        material = VonMisesPlasticity(**TABLE_7_1_PLASTICITY)
+        basis, conditions = plate(material)
+
+        def make():
+            return PathFollowingSolver(basis, material, conditions, bbar=True, method="arc-length",
+                                       path=PathControl(initial=0.05, arc_length=0.01))
+        options = {}
+
+    def run(output, **kw):
+        return make().run(output=output, vtu_every=0, progress=False, checkpoint_every=5, **options, **kw)
+
+    whole = run(tmp_path / "whole")
+
+    def kill(result):
+        if len(result.load_factors) - 1 == stop_after:
+            raise Interrupted
+
+    with pytest.raises(Interrupted):
+        run(tmp_path / "cut", on_step=kill)
+    resumed = run(tmp_path / "cut", resume=True)
+    assert len(resumed.load_factors) == len(whole.load_factors)
+    for name in ("load_factor", "constraint", "P", "v", "iterations"):
+        assert np.allclose(resumed.curves[name], whole.curves[name], rtol=1e-9, atol=1e-12), name
+    if method == "dissipation":
+        assert 1.0 in set(whole.curves["constraint"][:stop_after])        # the kill came after the switch
+    again = run(tmp_path / "cut", resume=True)
+    assert np.array_equal(again.load_factors, whole.load_factors)

@@ -58,6 +58,7 @@ import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
 from ..io import progress_bar
+from ..materials.base import MaterialResponse
 from ..validation import check_number_fields, check_option, check_positive, check_range
 from .linsolve import LinearSolveError
 from .solver import NewtonFailure, Solver, SolveResult, StepContext, StepFailed, _Recorder
@@ -399,30 +400,65 @@ class PathFollowingSolver(Solver):
     # ---- the run ----------------------------------------------------------------------------------------------
     def run(self, *, end: float = 1.0, stop_force: float = 0.0, output: str | Path | None = None,
             vtu_every: int = 1, progress: bool = True,
-            on_step: Callable[[SolveResult], None] | None = None) -> SolveResult:
+            on_step: Callable[[SolveResult], None] | None = None, checkpoint_every: int = 10,
+            resume: bool = False) -> SolveResult:
         """Follow the path from λ = 0 until λ reaches ``end`` or, after the peak, the load-pair force |P| falls to
         ``stop_force`` times its peak (e.g. 0.01: until the specimen carries 1 % of its peak load), or
         ``path.max_steps`` steps. Curves gain the columns ``constraint`` (0 load factor, 1 dissipation, 2 arc
-        length, 3 opening), ``v``, ``P`` and ``released`` (G of the step)."""
+        length, 3 opening), ``v``, ``P`` and ``released`` (G of the step). ``output``, ``checkpoint_every`` and
+        ``resume`` as in :meth:`Solver.run`: a resumed run continues with the constraint, targets and counters of
+        its checkpoint and gives the curve of a run never stopped."""
         check_range("stop_force", stop_force, 0.0, 1.0, high_open=True)
+        check_range("checkpoint_every", checkpoint_every, 0, None)
         ctrl, kin = self.path, self.kin
-        state = self.material.initial_state((kin.nel, kin.nqp))
-        u = self._at(np.zeros(self.constraints.free.size), 0.0, np.zeros(kin.ndof))
-        ctx0 = StepContext(0, 0.0, 0.0, 0.0, 0.0, 0, u, u, state, np.zeros(kin.ndof))
+        recorder = _Recorder(self, output, vtu_every, ("constraint", "v", "P", "released"),
+                             checkpoint_every=int(checkpoint_every))
+        saved = recorder.resume() if resume else None
+        if saved is None:
+            state, lam = self.material.initial_state((kin.nel, kin.nqp)), 0.0
+            u = self._at(np.zeros(self.constraints.free.size), 0.0, np.zeros(kin.ndof))
+        else:
+            state, lam, u = saved["state"], saved["load_factor"], saved["u"]
+        ctx0 = StepContext(0, lam, 0.0, lam * self.duration, 0.0, 0, u, u, state, np.zeros(kin.ndof))
         response, _, f_int, _, extra_K = self.evaluate(u, state, ctx0)
-        recorder = _Recorder(self, output, vtu_every, ("constraint", "v", "P", "released"))
         codes = {"load factor": 0, "dissipation": 1, "arc length": 2, "opening": 3}
-        lam, cutbacks, work, peak = 0.0, 0, 0.0, 0.0
-        v, P = self.load_pair(u, lam, f_int)
-        recorder.record(0, lam, u, f_int, response, state, 0, [], constraint=0, v=v, P=P, released=0.0)
+        cutbacks, work, peak, first_step = 0, 0.0, 0.0, 1
         if self.method == "arc-length":
             constraint = ArcLength(ctrl.arc_length) if ctrl.arc_length else LoadFactorControl(ctrl.initial)
         else:
             constraint = LoadFactorControl(ctrl.initial)
         firsts, previous, last_dlam = {}, None, ctrl.initial       # firsts: each constraint's first target
+        if saved is None:
+            v, P = self.load_pair(u, lam, f_int)
+            recorder.record(0, lam, u, f_int, response, state, 0, [], constraint=0, v=v, P=P, released=0.0)
+        else:                                         # continue exactly where the checkpoint left the run
+            c, arrays = saved["meta"]["control"], saved["arrays"]
+            f_int = arrays.get("f_int", f_int)
+            if "tangent" in arrays:        # the converged step's tangent starts the next step (see constrained_newton)
+                response = MaterialResponse(arrays["stress"], arrays["tangent"], state)
+            recorder.last = (u, state, response, f_int)
+            first_step, cutbacks, work, peak, v, P = c["step"] + 1, c["cutbacks"], c["work"], c["peak"], c["v"], c["P"]
+            constraint = self._constraint(c["constraint"], c["tau"])
+            firsts = {type(self._constraint(name, tau)): tau for name, tau in c["firsts"].items()}
+            last_dlam = c["last_dlam"]
+            if "previous_du" in saved["arrays"]:
+                previous = (saved["arrays"]["previous_du"], c["previous_dlam"])
+
+        def checkpoint(step, finished=False):
+            return recorder.checkpoint(
+                u, state, lam, {"step": step, "finished": finished, "cutbacks": cutbacks, "work": work,
+                                "peak": peak, "v": v, "P": P,
+                                "constraint": constraint.name, "tau": constraint.tau, "last_dlam": last_dlam,
+                                "firsts": {t.name: tau for t, tau in firsts.items()},
+                                "previous_dlam": None if previous is None else previous[1]},
+                f_int=f_int, previous_du=None if previous is None else previous[0], stress=response.stress,
+                tangent=response.tangent)
+
         bar = progress_bar(disable=not progress, unit="step", desc="path following")   # the end is not known
+        step = first_step - 1
+        finished = saved is not None and saved["meta"]["control"].get("finished", False)
         try:
-            for step in range(1, ctrl.max_steps + 1):
+            for step in range(first_step, ctrl.max_steps + 1 if not finished else first_step):
                 if isinstance(constraint, LoadFactorControl):
                     constraint.tau = min(constraint.tau, end - lam) if constraint.tau > 0 else constraint.tau
                 try:
@@ -446,7 +482,7 @@ class PathFollowingSolver(Solver):
                         raise StepFailed(
                             f"path following from λ={lam:.6g} failed under {constraint.name} control: "
                             f"{failure.reason}", load_factor=lam, u=u, state=state, reason=failure.reason,
-                            result=result, checkpoint=recorder.checkpoint(u, state, lam)) from failure
+                            result=result, checkpoint=checkpoint(step - 1)) from failure
                     continue
                 v_new, P_new = self.load_pair(u_new, lam_new, f_new)
                 released = 0.5 * (P * (v_new - v) - v * (P_new - P))
@@ -474,14 +510,24 @@ class PathFollowingSolver(Solver):
                 constraint = self._next_constraint(constraint, iterations, softening, work, previous,
                                                    firsts.get(type(constraint)))
                 firsts.setdefault(type(constraint), constraint.tau)
+                if recorder.due(step):
+                    checkpoint(step)
             else:
-                warnings.warn(f"path following stopped after max_steps = {ctrl.max_steps} steps at λ = {lam:.6g}, "
-                              f"|P| = {abs(P):.4g} (peak {peak:.4g}), before reaching end or stop_force",
-                              RuntimeWarning, stacklevel=2)
+                if not finished:
+                    warnings.warn(f"path following stopped after max_steps = {ctrl.max_steps} steps at "
+                                  f"λ = {lam:.6g}, |P| = {abs(P):.4g} (peak {peak:.4g}), before reaching end or "
+                                  "stop_force", RuntimeWarning, stacklevel=2)
+            if recorder.writer is not None and not finished:
+                checkpoint(step, finished=True)                   # the end: a rerun returns at once
         finally:
             bar.close()
             recorder.close()
         return recorder.result(cutbacks)
+
+    def _constraint(self, name: str, tau: float):
+        """The constraint called ``name`` with target ``tau`` (for a resumed run)."""
+        kinds = {"load factor": LoadFactorControl, "dissipation": DissipationControl, "arc length": ArcLength}
+        return OpeningControl(tau, self.opening) if name == "opening" else kinds[name](tau)
 
     def _length(self, increment) -> float:
         """:func:`increment_length` of an increment (Δu over all DOFs, Δλ)."""

@@ -213,16 +213,15 @@ class _Recorder:
         return {"ndof": int(kin.ndof), "nel": int(kin.nel), "nqp": int(kin.nqp), "columns": self.columns,
                 "duration": float(self.solver.duration)}
 
-    def checkpoint(self, u, state, lam, f_int=None, control: dict | None = None) -> Path | None:
-        """Save the last converged step with the history so far and the step control (``control``: ``delta``,
-        ``easy``, ``cutbacks``, ``delta_prev`` and the arrays ``u_prev``), or nothing without ``output``."""
+    def checkpoint(self, u, state, lam, control: dict | None = None, **arrays) -> Path | None:
+        """Save the last converged step with the history so far, the step control (``control``, JSON-able: the
+        step, step sizes, counters) and the named ``arrays`` it needs (``None`` ones are left out), or nothing
+        without ``output``."""
         if self.writer is None:
             return None
-        control = dict(control or {})
-        u_prev = control.pop("u_prev", None)
-        arrays = {k: v for k, v in (("f_int", f_int), ("u_prev", u_prev)) if v is not None}
+        arrays = {k: v for k, v in arrays.items() if v is not None}
         hist = self.hist
-        meta = {"fingerprint": self._fingerprint(), "control": control,
+        meta = {"fingerprint": self._fingerprint(), "control": control or {},
                 "history": {"rows": hist.rows, "iterations": hist.iterations, "residuals": hist.residuals}}
         return self.writer.checkpoint(u, state, lam, lam * self.solver.duration, arrays=arrays, meta=meta)
 
@@ -477,9 +476,10 @@ class Solver:
         def result():
             return recorder.result(cutbacks)
 
-        def control_state():
-            return {"step": step, "delta": delta, "easy": easy, "cutbacks": cutbacks, "u_prev": u_prev,
-                    "delta_prev": delta_prev}
+        def checkpoint():
+            return recorder.checkpoint(u, state, lam, {"step": step, "delta": delta, "easy": easy,
+                                                       "cutbacks": cutbacks, "delta_prev": delta_prev},
+                                       f_int=f_int, u_prev=u_prev)
 
         lam, delta, easy, step = start, min(ctrl.initial, end - start), 0, 0
         u_prev, delta_prev = None, None
@@ -512,14 +512,14 @@ class Solver:
                     easy = 0
                     delta *= ctrl.cutback
                     if delta < ctrl.minimum * (1 - 1e-12):
-                        checkpoint = recorder.checkpoint(u, state, lam, f_int, control_state())
-                        where = f"; saved to {checkpoint}" if checkpoint else ""
+                        saved_to = checkpoint()
+                        where = f"; saved to {saved_to}" if saved_to else ""
                         raise StepFailed(
                             f"load step from λ={lam:.6g} failed: {failure.reason}; the step size was cut back to "
                             f"{delta:.3g} < minimum {ctrl.minimum:.3g}. Last converged state: λ={lam:.6g}"
                             f"{where}. (Is the load beyond the limit load, or has the structure lost stiffness?)",
                             load_factor=lam, u=u, state=state, reason=failure.reason, result=result(),
-                            checkpoint=checkpoint) from failure
+                            checkpoint=saved_to) from failure
                     continue
                 u_prev, delta_prev = u, delta
                 u, response, f_int, state = res.u, res.response, res.f_int, res.response.state
@@ -532,9 +532,9 @@ class Solver:
                 if easy >= ctrl.easy_steps:
                     delta, easy = min(delta * ctrl.growth, ctrl.maximum), 0
                 if recorder.due(step):
-                    recorder.checkpoint(u, state, lam, f_int, control_state())
+                    checkpoint()
             if recorder.writer is not None and not recorder.due(step):
-                recorder.checkpoint(u, state, lam, f_int, control_state())      # the end: a rerun returns at once
+                checkpoint()                                     # the end: a rerun returns at once
         finally:
             bar.close()
             recorder.close()
