@@ -186,12 +186,9 @@ def test_path_following_warns_when_it_runs_out_of_steps():
         bar.solver(path=PathControl(max_steps=5)).run(stop_force=1e-3, progress=False)
 
 
-class Interrupted(Exception):
-    """Stands for a killed process: raised from ``on_step`` after a chosen step."""
-
-
 @pytest.mark.parametrize("method, stop_after", [("dissipation", 23), ("arc-length", 7)])
-def test_an_interrupted_path_following_run_resumes_with_the_uninterrupted_curve(tmp_path, method, stop_after):
+def test_an_interrupted_path_following_run_resumes_with_the_uninterrupted_curve(tmp_path, interrupt_after, method,
+                                                                                stop_after):
     """Killed after a step past the switch to dissipation control (or under arc length) with checkpoints every
     5 steps: the rerun continues with the checkpoint's constraint, targets and counters and ends on the curve of
     a run never stopped; a finished run's rerun returns at once."""
@@ -214,13 +211,8 @@ def test_an_interrupted_path_following_run_resumes_with_the_uninterrupted_curve(
         return make().run(output=output, vtu_every=0, progress=False, checkpoint_every=5, **options, **kw)
 
     whole = run(tmp_path / "whole")
-
-    def kill(result):
-        if len(result.load_factors) - 1 == stop_after:
-            raise Interrupted
-
-    with pytest.raises(Interrupted):
-        run(tmp_path / "cut", on_step=kill)
+    with pytest.raises(interrupt_after.error):
+        run(tmp_path / "cut", on_step=interrupt_after(stop_after))
     resumed = run(tmp_path / "cut", resume=True)
     assert len(resumed.load_factors) == len(whole.load_factors)
     for name in ("load_factor", "constraint", "P", "v", "iterations"):

@@ -306,18 +306,7 @@ def test_results_are_written_as_the_run_goes(tmp_path):
     assert last.point_data["displacement"].shape == (solver.kin.basis.mesh.p.shape[1], 3)
 
 
-class Interrupted(Exception):
-    """Stands for a killed process: raised from ``on_step`` after a chosen step."""
-
-
-def interrupt_after(step):
-    def on_step(result):
-        if len(result.load_factors) - 1 == step:
-            raise Interrupted
-    return on_step
-
-
-def test_an_interrupted_run_resumes_from_its_checkpoint_with_the_uninterrupted_curve(tmp_path):
+def test_an_interrupted_run_resumes_from_its_checkpoint_with_the_uninterrupted_curve(tmp_path, interrupt_after):
     """Killed after step 8 with checkpoints every 3 steps: the rerun goes back to step 6, recomputes 7 and 8
     (replacing their rows and VTU files), and ends with the curve, fields and state of a run never stopped."""
     material = VonMisesPlasticity(200000.0, 0.33, 60.0, 8000.0, integration="implicit")
@@ -328,7 +317,7 @@ def test_an_interrupted_run_resumes_from_its_checkpoint_with_the_uninterrupted_c
         return solver.run(output=output, vtu_every=2, progress=False, checkpoint_every=3, **kw)
 
     whole = run(tmp_path / "whole")
-    with pytest.raises(Interrupted):
+    with pytest.raises(interrupt_after.error):
         run(tmp_path / "cut", on_step=interrupt_after(8))
     assert len(read_curve(tmp_path / "cut" / "curves.csv")["step"]) == 9          # steps 0..8 were on disk
     assert load_checkpoint(tmp_path / "cut" / "last_converged.npz")["meta"]["control"]["step"] == 6
