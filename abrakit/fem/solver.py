@@ -163,6 +163,14 @@ class _History:
     residuals: list = field(default_factory=list)
     rows: list = field(default_factory=list)
 
+    def add(self, row: dict, iterations: int, residuals: list) -> None:
+        """One converged step: its curve row (holding ``load_factor`` and ``time``) and Newton history."""
+        self.load_factors.append(row["load_factor"])
+        self.times.append(row["time"])
+        self.iterations.append(iterations)
+        self.residuals.append(residuals)
+        self.rows.append(row)
+
 
 class _Recorder:
     """The history of a run: one row per converged step (load factor, time, iterations, monitored displacements
@@ -190,12 +198,7 @@ class _Recorder:
         for name, dofs in self.solver.monitors.items():
             row[f"u_{name}"] = float(np.mean(u[dofs])) if dofs.size else 0.0
             row[f"F_{name}"] = float(np.sum(f_int[dofs]))
-        hist = self.hist
-        hist.load_factors.append(lam)
-        hist.times.append(lam * duration)
-        hist.iterations.append(iterations)
-        hist.residuals.append(residuals)
-        hist.rows.append(row)
+        self.hist.add(row, iterations, residuals)
         self.last = (u, state, response, f_int)
         if self.writer is not None:
             self.writer.write_step(row, lam * duration, u, self.nodal, response.stress, state)
@@ -242,14 +245,9 @@ class _Recorder:
             raise ValueError(f"resume: the checkpoint {self.writer.checkpoint_path} belongs to another problem "
                              f"({meta['fingerprint']} != {self._fingerprint()}); delete it or choose another output")
         history = meta["history"]
-        hist = self.hist
         for row, iterations, residuals in zip(history["rows"], history["iterations"], history["residuals"],
                                               strict=True):
-            hist.rows.append(row)
-            hist.load_factors.append(row["load_factor"])
-            hist.times.append(row["time"])
-            hist.iterations.append(iterations)
-            hist.residuals.append(residuals)
+            self.hist.add(row, iterations, residuals)
         self.writer.restart(history["rows"], meta["output"])
         return saved
 
