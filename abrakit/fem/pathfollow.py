@@ -228,6 +228,10 @@ class ArcLength:
         return abs(self.residual(p)) <= 1e-8 * self.tau
 
 
+#: The constraints by their ``name`` (a resumed run rebuilds its constraint from the name saved in the checkpoint).
+CONSTRAINTS = {kind.name: kind for kind in (LoadFactorControl, DissipationControl, ArcLength, OpeningControl)}
+
+
 @dataclass(frozen=True)
 class PathControl:
     """Steps of a path-following run.
@@ -439,10 +443,10 @@ class PathFollowingSolver(Solver):
             recorder.last = (u, state, response, f_int)
             first_step, cutbacks, work, peak, v, P = c["step"] + 1, c["cutbacks"], c["work"], c["peak"], c["v"], c["P"]
             constraint = self._constraint(c["constraint"], c["tau"])
-            firsts = {type(self._constraint(name, tau)): tau for name, tau in c["firsts"].items()}
+            firsts = {CONSTRAINTS[name]: tau for name, tau in c["firsts"].items()}
             last_dlam = c["last_dlam"]
-            if "previous_du" in saved["arrays"]:
-                previous = (saved["arrays"]["previous_du"], c["previous_dlam"])
+            if "previous_du" in arrays:
+                previous = (arrays["previous_du"], c["previous_dlam"])
 
         def checkpoint(step, finished=False):
             return recorder.checkpoint(
@@ -526,8 +530,8 @@ class PathFollowingSolver(Solver):
 
     def _constraint(self, name: str, tau: float):
         """The constraint called ``name`` with target ``tau`` (for a resumed run)."""
-        kinds = {"load factor": LoadFactorControl, "dissipation": DissipationControl, "arc length": ArcLength}
-        return OpeningControl(tau, self.opening) if name == "opening" else kinds[name](tau)
+        kind = CONSTRAINTS[name]
+        return kind(tau, self.opening) if kind is OpeningControl else kind(tau)
 
     def _length(self, increment) -> float:
         """:func:`increment_length` of an increment (Δu over all DOFs, Δλ)."""
