@@ -251,7 +251,7 @@ def run_model_two(specimen, alpha: float = 0.05, *, material: ModelIIDamage | No
         :func:`model_two_solver` for the rate limit under path following.
     """
     from ..fem import StepFailed
-    from ..fem.output import cell_fields, meshio_cells, save_checkpoint
+    from ..fem.output import RunWriter, cell_fields, meshio_cells, save_checkpoint
 
     material = default_material(alpha) if material is None else material
     if stop_fraction is not None:
@@ -374,7 +374,7 @@ def run_model_two(specimen, alpha: float = 0.05, *, material: ModelIIDamage | No
         message = (f"Model II run stopped at load factor {failure.load_factor:.6g} "
                    f"(u = {book.rows[-1]['u']:.4g} mm): {failure.reason}; the load step could not be completed "
                    f"even when cut back to {solver.control.minimum:.3g}. The result and "
-                   f"{'last_converged.npz' if out else 'result.state'} hold the last converged state.")
+                   f"{RunWriter.CHECKPOINT if out else 'result.state'} hold the last converged state.")
         warnings.warn(message, RuntimeWarning, stacklevel=2)
     finally:
         if writer is not None:
@@ -383,7 +383,7 @@ def run_model_two(specimen, alpha: float = 0.05, *, material: ModelIIDamage | No
         book.last = solve
     if out is not None:
         last = book.last
-        checkpoint = save_checkpoint(out / "last_converged.npz", last.u, last.state,
+        checkpoint = save_checkpoint(out / RunWriter.CHECKPOINT, last.u, last.state,
                                      float(last.load_factors[-1]), float(last.times[-1]))
         if not vtu_every or (len(book.rows) - 1) % vtu_every:
             write_fields(last, len(book.rows) - 1)
