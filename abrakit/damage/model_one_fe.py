@@ -385,7 +385,8 @@ class ModelISolver(Solver):
 
         ``output``: directory for the solver's ``curves.csv`` and ``fields/step.pvd`` (cell fields ``d``, ``f``,
         ``alpha_p``, ``psi0``, ``laplacian``, stresses, ...), ``model_one.csv`` (curves and energies, one row per
-        converged step, written as the run goes), ``summary.json`` and, if stopped, ``last_converged.npz``.
+        converged step, written as the run goes), ``summary.json`` and ``last_converged.npz`` (the solver's
+        checkpoint, every 10 steps, at the end and when the run stops).
         ``on_step(result)`` is called after every converged step with the partial result.
         """
         t0 = _time.perf_counter()
