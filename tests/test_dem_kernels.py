@@ -1,5 +1,8 @@
 """The optional numba kernel gives the NumPy path's results (to round-off)."""
 
+import copy
+import pickle
+
 import numpy as np
 import pytest
 
@@ -158,3 +161,19 @@ def test_gaps_in_the_verlet_list_carry_nothing(kernel):
     assert 0.2 < gap.mean() < 0.8
     assert np.all(c.fn[gap] == 0.0) and np.all(c.ft[:, gap] == 0.0) and np.all(c.force[:, gap] == 0.0)
     assert np.all(c.fn[~gap] > 0.0)
+
+
+def test_numpy_results_are_built_when_read_and_survive_pickling_and_copies():
+    """The NumPy path defers spreading its live-contact results over the candidate list (``ContactSet.defer``):
+    reading them gives the full arrays (a unit normal for every candidate), and a pickle or a deep copy holds the
+    arrays themselves, equal to the originals."""
+    sim = dense_packing(216, seed=4, agitation=0.05, dt=3e-7)
+    sim.run(20, progress=False)
+    twin = pickle.loads(pickle.dumps(sim))
+    copied = copy.deepcopy(sim)
+    c = sim.contacts
+    assert c.normal.shape == (3, len(c)) and np.allclose(np.sum(c.normal**2, axis=0), 1.0, rtol=1e-14)
+    for other in (twin.contacts, copied.contacts):
+        assert not any(callable(v) for v in other._results.values())
+        for name in ("normal", "fn", "force"):
+            np.testing.assert_array_equal(getattr(other, name), getattr(c, name))

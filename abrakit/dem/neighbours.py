@@ -42,7 +42,8 @@ def candidate_pairs(x, radius, skin, clump=None, periodic=None, compiled=False):
                            boxsize=periodic.lengths)
         pairs = tree.query_pairs(2.0 * float(radius.max()) + skin, output_type="ndarray")
         i, j = pairs[:, 0].astype(np.int64), pairs[:, 1].astype(np.int64)
-        d = x[j] - x[i] if periodic is None else periodic.minimum_image(x[j] - x[i])
+        d = np.take(x, j, axis=0) - np.take(x, i, axis=0)         # np.take: twice as fast as x[j] on rows
+        d = d if periodic is None else periodic.minimum_image(d)
         keep = np.einsum("ij,ij->i", d, d) < (radius[i] + radius[j] + skin) ** 2
         order = np.argsort(pair_keys(i[keep], j[keep], len(x)))   # keys are unique: no need for a stable sort
         i, j = i[keep][order], j[keep][order]

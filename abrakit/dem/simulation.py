@@ -19,6 +19,7 @@ from __future__ import annotations
 
 import copy
 import warnings
+from collections.abc import Mapping
 from dataclasses import dataclass
 
 import numpy as np
@@ -95,6 +96,25 @@ def _place(values, index, m):
     return out
 
 
+class _Taken(Mapping):
+    """The per-contact parameters ``prm`` of the contacts ``index``, each taken when first read (a law reads only
+    the ones it needs)."""
+
+    def __init__(self, prm: dict, index):
+        self._prm, self._index, self._taken = prm, index, {}
+
+    def __getitem__(self, key):
+        if key not in self._taken:
+            self._taken[key] = self._prm[key][self._index]
+        return self._taken[key]
+
+    def __iter__(self):
+        return iter(self._prm)
+
+    def __len__(self) -> int:
+        return len(self._prm)
+
+
 def _scatter(out, index, values, sign=1.0):
     """out[index] += sign · values for (N, 3) ``out`` and (3, M) ``values``, summed with np.bincount."""
     n = len(out)
@@ -102,12 +122,13 @@ def _scatter(out, index, values, sign=1.0):
         out[:, k] += sign * np.bincount(index, values[k], n)
 
 
-def _scatter_bond_loads(force, torque, i, j, force_on_j, torque_on_i, torque_on_j) -> None:
-    """Add a bond's force (on j, its reaction on i) and torques to the particle sums."""
-    _scatter(force, j, force_on_j)
-    _scatter(force, i, force_on_j, -1.0)
-    _scatter(torque, i, torque_on_i)
-    _scatter(torque, j, torque_on_j)
+def _scatter_pair_loads(force, torque, i, j, force_on_j, torque_on_i, torque_on_j) -> None:
+    """Add the force of pairs i–j (on j, its reaction on i) and their torques on i and j to the particle sums
+    (contacts and bonds; each component's two sums are added at once)."""
+    n = len(force)
+    for k in range(3):
+        force[:, k] += np.bincount(j, force_on_j[k], n) - np.bincount(i, force_on_j[k], n)
+        torque[:, k] += np.bincount(i, torque_on_i[k], n) + np.bincount(j, torque_on_j[k], n)
 
 
 class Simulation:
@@ -298,21 +319,23 @@ class Simulation:
         if self.kernel == "numba":
             r, overlap, n, failed = self._ball_ball_compiled(force, torque)
             live, prm = slice(None), c.prm
-            c.ft, c.fn, c.force = r.ft, r.fn, r.force
+            c.ft, c.fn, c.force, c.normal = r.ft, r.fn, r.force, n
         else:
             d = gather(p.x, c.j) - gather(p.x, c.i)
             if self.periodic is not None:
                 d = self.periodic.minimum_image(d, axis=0)
             dist = np.sqrt(dot(d, d))                                 # Eq. (4.2)
-            n = d / dist                                              # Eq. (4.1)
             overlap = self._radius_sum - dist                         # Eq. (4.3)
             live = np.flatnonzero((overlap > 0.0) | c.bonded)
-            prm = {k: v[live] for k, v in c.prm.items()}
+            n = np.take(d, live, axis=1) / dist[live]                 # Eq. (4.1), on the live contacts
+            prm = _Taken(c.prm, live)
             r = self._live_contact_forces(live, prm, overlap, n, force, torque)
             failed = r.tension_failure.any() or r.shear_failure.any()
-            c.ft, c.fn, c.force = (_place(a, live, len(c)) for a in (r.ft, r.fn, r.force))
-        c.overlap, c.normal = overlap, n
-        i, j, overlap, n = c.i[live], c.j[live], overlap[live], n[:, live]
+            c.ft = _place(r.ft, live, len(c))
+            m = len(c)
+            c.defer(normal=lambda: d / dist, fn=lambda: _place(r.fn, live, m), force=lambda: _place(r.force, live, m))
+        c.overlap = overlap
+        i, j, overlap = c.i[live], c.j[live], overlap[live]           # n: the live contacts' normals
         if failed:
             self._record_contact_cracks(r, i, j, np.arange(len(c))[live],
                                         gather(p.x, i) + (p.radius[i] - 0.5 * overlap) * n)
@@ -328,10 +351,10 @@ class Simulation:
         return self._elastic_energy(prm, overlap, c.bonded[live], c.bond_gap[live], r)
 
     def _live_contact_forces(self, live, prm, overlap, n, force, torque) -> ContactForces:
-        """The law on the contacts ``live`` (indices; their parameters ``prm``; Eq. 4.4–4.10), their forces and
-        moments summed onto the particles."""
+        """The law on the contacts ``live`` (indices; their parameters ``prm`` and normals ``n``; Eq. 4.4–4.10),
+        their forces and moments summed onto the particles."""
         p, c = self.particles, self.contacts
-        i, j, U, n = c.i[live], c.j[live], overlap[live], np.take(n, live, axis=1)
+        i, j, U = c.i[live], c.j[live], overlap[live]
         arm_i = p.radius[i] - 0.5 * U                                 # Eq. (4.4): centre to contact point
         arm_j = p.radius[j] - 0.5 * U
         v_rel = gather(p.v, j) - gather(p.v, i) - cross(arm_i * gather(p.w, i) + arm_j * gather(p.w, j), n)
@@ -339,11 +362,8 @@ class Simulation:
             if c.bonded.any() else ()
         r = force_displacement(self.law, prm, U, n, v_rel, np.take(c.ft, live, axis=1), self.dt, *bonds,
                                energy=self.track_energy)
-        _scatter(force, j, r.force)                                   # B receives +F, A receives −F
-        _scatter(force, i, r.force, -1.0)
-        lever = cross(n, r.force)                                     # moment arm × force: −r' n × F
-        _scatter(torque, i, arm_i * lever, -1.0)
-        _scatter(torque, j, arm_j * lever, -1.0)
+        moment = cross(r.force, n)                                    # −n × F per unit arm: torque = r' F × n
+        _scatter_pair_loads(force, torque, i, j, r.force, arm_i * moment, arm_j * moment)   # B: +F, A: −F
         return r
 
     def _ball_ball_compiled(self, force, torque):
@@ -438,7 +458,7 @@ class Simulation:
             return 0.0
         p = self.particles
         new, f, t_i, t_j, tension, shear, point = parallel_bond_update(b, p.x, p.v, p.w, p.radius, self.dt)
-        _scatter_bond_loads(force, torque, new.i, new.j, f, t_i, t_j)
+        _scatter_pair_loads(force, torque, new.i, new.j, f, t_i, t_j)
         broken = tension | shear
         if broken.any():
             for mode, mask in (("tension", tension), ("shear", shear)):
@@ -453,7 +473,7 @@ class Simulation:
             return 0.0
         p = self.particles
         new, f, t_i, t_j, point = b.update(p.x, p.v, p.w, p.radius, self.dt)
-        _scatter_bond_loads(force, torque, new.i, new.j, f, t_i, t_j)
+        _scatter_pair_loads(force, torque, new.i, new.j, f, t_i, t_j)
         broken = new.damage >= BROKEN
         if broken.any():
             tension = broken & (new.plastic[0] + new.fatigue[0] >= new.plastic[1] + new.fatigue[1])
@@ -630,11 +650,10 @@ class Simulation:
         spin included) [s], ``inf`` at rest: a contact is then seen before the pair overlaps by more than that, so a
         fast particle cannot step over another one without touching it (tunnelling)."""
         p = self.particles
-        movable = ~p.fixed
-        if not movable.any():
+        v, w, radius = (p.v, p.w, p.radius) if not p.fixed.any() else (p.v[~p.fixed], p.w[~p.fixed], p.radius[~p.fixed])
+        if not len(v):
             return np.inf
-        speed = np.sqrt(rowdot(p.v[movable], p.v[movable])) + np.sqrt(rowdot(p.w[movable], p.w[movable])) \
-            * p.radius[movable]
+        speed = np.sqrt(rowdot(v, v)) + np.sqrt(rowdot(w, w)) * radius
         fastest = float(speed.max())
         return np.inf if fastest == 0.0 else MAX_TRAVEL * float(p.radius.min()) / fastest
 

@@ -172,11 +172,38 @@ class ContactSet:
     prm: dict = field(default_factory=dict)
     # results of the last force evaluation (read by measure.py; not history)
     overlap: np.ndarray | None = None   # (M,) U [m]
-    normal: np.ndarray | None = None    # (3, M) n, from A to B
-    fn: np.ndarray | None = None        # (M,) normal spring force [N]
-    force: np.ndarray | None = None     # (3, M) total force on B [N]
+    _results: dict = field(default_factory=dict, repr=False)   # normal, fn, force: arrays or deferred makers
 
     HISTORY = ("ft", "bonded", "bond_gap", "bond_normal_strength", "bond_shear_strength")
+
+    def defer(self, **makers) -> None:
+        """Results that are built only when read: ``name=callable`` (``normal``, ``fn``, ``force``).
+
+        The NumPy force loop works on the live contacts only; spreading its results over the whole candidate list
+        costs a tenth of a step, and most steps nobody reads them (a measurement or an output does)."""
+        self._results.update(makers)
+
+    def _result(self, name):
+        value = self._results.get(name)
+        if callable(value):
+            value = self._results[name] = value()
+        return value
+
+    def _set_result(self, name, value) -> None:
+        self._results[name] = value
+
+    def __getstate__(self) -> dict:
+        """Pickles and copies hold the results themselves, not the makers (closures cannot be pickled)."""
+        for name in list(self._results):
+            self._result(name)
+        return self.__dict__.copy()
+
+    normal = property(lambda self: self._result("normal"), lambda self, v: self._set_result("normal", v),
+                      doc="(3, M) unit normal n from A to B, Eq. (4.1), of the last force evaluation")
+    fn = property(lambda self: self._result("fn"), lambda self, v: self._set_result("fn", v),
+                  doc="(M,) normal spring force [N] of the last force evaluation")
+    force = property(lambda self: self._result("force"), lambda self, v: self._set_result("force", v),
+                     doc="(3, M) total contact force on B [N] of the last force evaluation")
 
     @classmethod
     def empty_history(cls, i, j, n_keys: int) -> ContactSet:
