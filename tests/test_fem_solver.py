@@ -339,6 +339,26 @@ def test_an_interrupted_run_resumes_from_its_checkpoint_with_the_uninterrupted_c
     assert np.array_equal(again.load_factors, whole.load_factors) and again.iterations[-1] == whole.iterations[-1]
 
 
+def test_a_run_continued_from_a_partial_results_continuation_takes_the_same_steps():
+    """``SolveResult.continuation`` of step 5 (kept by a caller's own checkpoint, as the scratch scene does) makes
+    ``run(continuation=...)`` take steps 6… with the step sizes, growth counter and state of the run never stopped."""
+    material = VonMisesPlasticity(200000.0, 0.33, 60.0, 8000.0, integration="implicit")
+    control = StepControl(initial=0.05, maximum=0.1)
+    kept = {}
+
+    def keep(result):
+        kept.setdefault(len(result.load_factors) - 1, result.continuation)
+
+    whole = plate_with_hole_problem(material, n_angular=6, n_radial=4, control=control).run(progress=False,
+                                                                                              on_step=keep)
+    assert kept[5]["control"]["delta"] != control.initial                  # the step has grown by step 5
+    rest = plate_with_hole_problem(material, n_angular=6, n_radial=4, control=control).run(
+        progress=False, continuation=kept[5])
+    np.testing.assert_array_equal(rest.load_factors, whole.load_factors[5:])
+    np.testing.assert_allclose(rest.curves["F_top"], whole.curves["F_top"][5:], rtol=1e-12)
+    np.testing.assert_allclose(rest.u, whole.u, rtol=0, atol=1e-12)
+
+
 def test_resume_refuses_the_checkpoint_of_another_problem(tmp_path):
     material = VonMisesPlasticity(200000.0, 0.33, 60.0, 8000.0, integration="implicit")
     plate_with_hole_problem(material, n_angular=6, n_radial=4).run(output=tmp_path, vtu_every=0, progress=False,

@@ -139,6 +139,11 @@ class SolveResult:
     cutbacks: int
     wall_time: float
     output: Path | None = None
+    continuation: dict | None = None
+    """Where :meth:`Solver.run` stands after the last converged step, what ``run(continuation=...)`` needs to go on
+    exactly as this run would: ``u``, ``state``, ``load_factor``, ``f_int``, ``u_prev`` (the step before, for
+    extrapolation) and ``control`` (JSON-able: ``step``, ``delta`` — the next step size —, ``easy``, ``cutbacks``,
+    ``delta_prev``)."""
 
 
 class StepFailed(RuntimeError):
@@ -443,7 +448,7 @@ class Solver:
     def run(self, *, end: float = 1.0, start: float = 0.0, u0: np.ndarray | None = None,
             state0: dict | None = None, output: str | Path | None = None, vtu_every: int = 1,
             progress: bool = True, on_step: Callable[[SolveResult], None] | None = None,
-            checkpoint_every: int = 10, resume: bool = False) -> SolveResult:
+            checkpoint_every: int = 10, resume: bool = False, continuation: dict | None = None) -> SolveResult:
         """Follow the load path from ``start`` to ``end`` (load factors); returns the converged history.
 
         ``output``: directory for ``curves.csv``, ``fields/step.pvd`` (+ ``.vtu``) and ``last_converged.npz``,
@@ -451,7 +456,9 @@ class Solver:
         failure; ``vtu_every=0`` disables field output. ``resume=True`` takes a run up again from the checkpoint in
         ``output`` (if there is one): the steps after it are recomputed, their rows and VTU files replaced, and the
         result is that of an uninterrupted run. ``on_step`` is called after every converged step with the
-        (partial) result.
+        (partial) result. ``continuation`` (a :attr:`SolveResult.continuation`, e.g. kept by a caller's own
+        checkpoint) starts the run where that one stood, at its load factor with its step control, instead of at
+        ``start``.
         """
         check_range("end", end, start, None, low_open=True)
         check_range("checkpoint_every", checkpoint_every, 0, None)
@@ -459,8 +466,11 @@ class Solver:
         recorder = _Recorder(self, output, vtu_every, checkpoint_every=int(checkpoint_every))
         saved = recorder.resume() if resume else None
         if saved is not None:
-            start, state, control = saved["load_factor"], saved["state"], saved["meta"]["control"]
-            u = saved["u"]
+            continuation = {"u": saved["u"], "state": saved["state"], "load_factor": saved["load_factor"],
+                            "f_int": saved["arrays"].get("f_int"), "u_prev": saved["arrays"].get("u_prev"),
+                            "control": saved["meta"]["control"]}
+        if continuation is not None:
+            start, state, u = continuation["load_factor"], continuation["state"], continuation["u"]
         else:
             state = state0 if state0 is not None else self.material.initial_state((kin.nel, kin.nqp))
             u = cons.apply(np.zeros(kin.ndof) if u0 is None else u0, start)
@@ -471,23 +481,30 @@ class Solver:
         def record(step, lam, iterations, residuals):
             recorder.record(step, lam, u, f_int, response, state, iterations, residuals)
 
+        def control():
+            return {"step": step, "delta": delta, "easy": easy, "cutbacks": cutbacks, "delta_prev": delta_prev}
+
         def result():
-            return recorder.result(cutbacks)
+            res = recorder.result(cutbacks)
+            res.continuation = {"u": u, "state": state, "load_factor": lam, "f_int": f_int, "u_prev": u_prev,
+                                "control": control()}
+            return res
 
         def checkpoint():
-            return recorder.checkpoint(u, state, lam, {"step": step, "delta": delta, "easy": easy,
-                                                       "cutbacks": cutbacks, "delta_prev": delta_prev},
-                                       f_int=f_int, u_prev=u_prev)
+            return recorder.checkpoint(u, state, lam, control(), f_int=f_int, u_prev=u_prev)
 
         lam, delta, easy, step = start, min(ctrl.initial, end - start), 0, 0
         u_prev, delta_prev = None, None
+        if continuation is not None:                   # continue exactly where the checkpoint left the run
+            if continuation.get("f_int") is not None:
+                f_int = continuation["f_int"]
+            saved_control = continuation["control"]
+            step, delta, easy, cutbacks = (saved_control[k] for k in ("step", "delta", "easy", "cutbacks"))
+            u_prev, delta_prev = continuation.get("u_prev"), saved_control["delta_prev"]
         if saved is None:
-            record(0, start, 0, [])
-        else:                                          # continue exactly where the checkpoint left the run
-            f_int = saved["arrays"].get("f_int", f_int)
+            record(step, start, 0, [])
+        else:
             recorder.last = (u, state, response, f_int)
-            step, delta, easy, cutbacks = control["step"], control["delta"], control["easy"], control["cutbacks"]
-            u_prev, delta_prev = saved["arrays"].get("u_prev"), control["delta_prev"]
         bar = progress_bar(total=end - start, disable=not progress, unit="λ",
                            bar_format="{l_bar}{bar}| λ={n:.4f}/{total}")
         try:
@@ -524,11 +541,11 @@ class Solver:
                 lam, step = lam_new, step + 1
                 record(step, lam, res.iterations, res.residuals)
                 bar.update(delta)
-                if on_step is not None:
-                    on_step(result())
                 easy = easy + 1 if res.iterations <= ctrl.easy_iterations else 0
                 if easy >= ctrl.easy_steps:
                     delta, easy = min(delta * ctrl.growth, ctrl.maximum), 0
+                if on_step is not None:
+                    on_step(result())
                 if recorder.due(step):
                     checkpoint()
             if recorder.writer is not None and not recorder.due(step):

@@ -150,6 +150,23 @@ class IndenterContact:
         self._tau, self._u = float(load_factor), u.copy()
         self._pending = None
 
+    def snapshot(self) -> tuple[dict, dict]:
+        """The committed history a resumed run needs, as (arrays, JSON-able numbers); :meth:`restore` takes it back."""
+        arrays = {f"contact_state__{k}": v for k, v in self.state.items()}
+        arrays |= {"contact_pressure": self.pressure, "contact_u": self._u}
+        forces = self.forces._asdict() | {"force": [float(v) for v in self.forces.force]}
+        return arrays, {"tau": self._tau, "forces": forces}
+
+    def restore(self, arrays: dict, meta: dict) -> None:
+        """Take up the committed history of :meth:`snapshot` again (the start of the next step)."""
+        self.state = {k.removeprefix("contact_state__"): np.array(v) for k, v in arrays.items()
+                      if k.startswith("contact_state__")}
+        self.pressure = np.array(arrays["contact_pressure"], dtype=float)
+        self._u = None if meta["tau"] is None else np.array(arrays["contact_u"], dtype=float)
+        self._tau = meta["tau"]
+        self.forces = ContactForces(**{**meta["forces"], "force": np.array(meta["forces"]["force"])})
+        self._pending = None
+
     def on_step(self, result) -> None:
         """``Solver.run(on_step=...)`` callback: commits the converged step of ``result``."""
         self.commit(result.u, float(result.load_factors[-1]))

@@ -47,7 +47,8 @@ class ScratchRecorder:
         self.budget: VolumeBudget | None = None
         self.t_start = time.perf_counter()
         out = Path(output) if output is not None else None
-        self.curves_file = CurveWriter(out / "forces.csv", CURVE_COLUMNS) if out is not None else None
+        self._curves_path = out / "forces.csv" if out is not None else None
+        self.curves_file = CurveWriter(self._curves_path, CURVE_COLUMNS) if out is not None else None
         self.vtu_every = vtu_every if out is not None else 0
         self.vtu = VtuSeries(out / "fields", stem="step") if self.vtu_every else None
         self._cells = meshio_cells(self.mesh) if self.vtu is not None else None
@@ -90,6 +91,27 @@ class ScratchRecorder:
                                    "contact_pressure": self.contact.pressure_field(self.mesh.p.shape[1])},
                        cell_data={k: [v] for k, v in fields.items()})
         self._last_fields = tau
+
+    def position(self) -> dict:
+        """Where the record stands (JSON-able, for a checkpoint): its rows, the last volume audit, the VTU entries."""
+        return {"rows": self.rows, "budget": None if self.budget is None else self.budget._asdict(),
+                "vtu": [] if self.vtu is None else [list(e) for e in self.vtu.entries],
+                "last_fields": self._last_fields}
+
+    def restart(self, position: dict) -> None:
+        """Continue from a checkpoint's :meth:`position`: ``forces.csv`` is rewritten with exactly its rows, the VTU
+        files of later increments are removed, and the wall-time column goes on from its last row."""
+        self.rows = [dict(row) for row in position["rows"]]
+        self.budget = None if position["budget"] is None else VolumeBudget(**position["budget"])
+        if self.curves_file is not None:
+            self.curves_file.close()
+            self.curves_file = CurveWriter(self._curves_path, CURVE_COLUMNS)
+            for row in self.rows:
+                self.curves_file.write(**row)
+        if self.vtu is not None:
+            self.vtu.restart([(float(t), str(name)) for t, name in position["vtu"]])
+        self._last_fields = position["last_fields"]
+        self.t_start = time.perf_counter() - (self.rows[-1]["wall_time"] if self.rows else 0.0)
 
     def curves(self) -> dict[str, np.ndarray]:
         return {k: np.array([r[k] for r in self.rows]) for k in CURVE_COLUMNS}

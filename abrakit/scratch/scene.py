@@ -50,6 +50,7 @@ from abrakit.fem.linsolve import DirectSolver, pardiso_available, rigid_body_mod
 from abrakit.io import write_json
 from abrakit.materials import LinearElastic, LogStrainPlasticity, ModelIIDamage, VonMisesPlasticity
 from abrakit.scratch.budget import VolumeBudget
+from abrakit.scratch.checkpoint import CHECKPOINT, load_scratch_checkpoint, save_scratch_checkpoint
 from abrakit.scratch.contact import penalty_from_stiffness
 from abrakit.scratch.contact_term import IndenterContact
 from abrakit.scratch.groove import (
@@ -671,13 +672,20 @@ def groove_along(specimen: Specimen, u: np.ndarray, scene: ScratchScene, z: np.n
 
 
 def run_scratch(scene: ScratchScene = ScratchScene(), *, output=None, progress: bool = False, vtu_every: int = 10,
-                linear_solver: str = "auto", newton: NewtonOptions | None = None) -> ScratchResult:
+                linear_solver: str = "auto", newton: NewtonOptions | None = None, checkpoint_every: int = 10,
+                resume: bool = False) -> ScratchResult:
     """Run the single scratch ``scene``; write ``forces.csv``, ``fields/step.pvd`` and ``summary.json`` to
     ``output`` (if given) as it goes; return a :class:`ScratchResult`.
 
     ``linear_solver``: "pardiso", "lu", "amg" or "auto", see :func:`scene_linear_solver`.
     ``vtu_every``: field output every that many increments (and at the end of every phase); 0 disables it.
+    ``checkpoint_every``: with ``output``, save ``last_converged.npz`` every that many increments and at the end of
+    every phase (0: at phase ends only; :mod:`abrakit.scratch.checkpoint`). ``resume=True`` continues from that
+    checkpoint, if there is one: ``forces.csv`` and the VTU series go back to it and the increments after it are
+    recomputed with the phase's nominal increment (the same increments as an uninterrupted run unless a cutback was
+    being recovered from when it stopped).
     """
+    check_range("checkpoint_every", checkpoint_every, 0, None)
     t_start = time.perf_counter()
     spec = scene.mesh_spec
     path = scene.path
@@ -717,18 +725,48 @@ def run_scratch(scene: ScratchScene = ScratchScene(), *, output=None, progress: 
     u = np.zeros(basis.N)
     state = material.initial_state((solver.kin.nel, solver.kin.nqp))
     iterations = cutbacks = 0
+    tau_done, u_loaded = 0.0, None
+    checkpoint = out / CHECKPOINT if out is not None else None
+    saved = load_scratch_checkpoint(checkpoint, scene, basis.N) if resume and checkpoint is not None else None
     grooves, notes = {}, []
+
+    def save(u_, state_, tau, iterations_, continuation=None):
+        save_scratch_checkpoint(checkpoint, scene, u=u_, state=state_, tau=tau, recorder=recorder, contact=contact,
+                                iterations=iterations_, cutbacks=cutbacks, u_loaded=u_loaded,
+                                continuation=continuation)
+
+    def on_step(res):            # ``iterations``/``cutbacks``: the counts before the phase that is running
+        recorder(res)
+        if checkpoint is not None and checkpoint_every and len(recorder.rows) % checkpoint_every == 0:
+            save(res.u, res.state, float(res.load_factors[-1]), iterations + int(res.iterations.sum()),
+                 res.continuation)
+
+    continuation = None
     try:
-        contact.reset(0.0, u)
+        if saved is None:
+            contact.reset(0.0, u)
+        else:
+            u, state, tau_done, u_loaded = saved["u"], saved["state"], saved["load_factor"], saved["u_loaded"]
+            iterations, cutbacks = saved["meta"]["iterations"], saved["meta"]["cutbacks"]
+            continuation = saved["continuation"]
+            recorder.restart(saved["meta"]["record"])
+            contact.restore(saved["arrays"], saved["meta"]["contact"])
         for start, end, dtau in _segments(scene, spec):
+            if end <= tau_done:                                              # done before the checkpoint
+                continue
             solver.control = StepControl(initial=dtau, maximum=dtau, minimum=dtau * 1e-3, easy_iterations=7)
-            result = solver.run(start=start, end=end, u0=u, state0=state, progress=progress, on_step=recorder)
+            result = solver.run(start=start, end=end, u0=u, state0=state, progress=progress, on_step=on_step,
+                                continuation=continuation if start < tau_done else None)
             u, state = result.u, result.state
             iterations += int(result.iterations.sum())
             cutbacks += result.cutbacks
             recorder.write_fields(end, u, result.response.stress, state)      # the end of every phase
             if scene.slide > 0.0 and end == 1.5:
-                grooves["loaded"] = _noted(groove_section(specimen, u, scene), "tip in contact", notes)
+                u_loaded = u.copy()
+            if checkpoint is not None:
+                save(u, state, end, iterations)
+        if u_loaded is not None:
+            grooves["loaded"] = _noted(groove_section(specimen, u_loaded, scene), "tip in contact", notes)
         if scene.slide > 0.0:
             label = "after unloading" if scene.unload else "end of slide"
             grooves["unloaded"] = _noted(groove_section(specimen, u, scene), label, notes)

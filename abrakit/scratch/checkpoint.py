@@ -1,0 +1,61 @@
+"""Checkpoints of a scratch run: a killed :func:`~abrakit.scratch.run_scratch` continues where it was saved.
+
+A checkpoint (``last_converged.npz`` in the run's output directory, written atomically) holds what the next
+increment starts from: the displacement, the material state, the pseudo-time τ, the committed contact history
+(:meth:`~abrakit.scratch.IndenterContact.snapshot`), the record so far (rows of ``forces.csv``, volume audit, VTU
+entries: :meth:`~abrakit.scratch.record.ScratchRecorder.position`), the Newton and cutback counters and, once the
+slide's first half is done, the displacement at τ = 1.5 (the groove "with the tip in contact"). Inside a phase it
+also holds the solver's :attr:`~abrakit.fem.SolveResult.continuation` (step size, cutback recovery, the previous
+increment), so the resumed phase takes the increments the uninterrupted one would have taken. It is written every
+``checkpoint_every`` increments and at the end of every phase. A checkpoint of another scene or mesh is refused by
+name, not resumed.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from abrakit.fem.output import RunWriter, load_checkpoint, save_checkpoint
+
+__all__ = ["CHECKPOINT", "load_scratch_checkpoint", "save_scratch_checkpoint"]
+
+CHECKPOINT = RunWriter.CHECKPOINT
+
+
+def fingerprint(scene, ndof: int) -> dict:
+    """What a checkpoint must match to be resumed: the scene (its exact repr) and the number of DOFs."""
+    return {"scene": repr(scene), "dofs": int(ndof)}
+
+
+def save_scratch_checkpoint(path, scene, *, u, state, tau: float, recorder, contact, iterations: int,
+                            cutbacks: int, u_loaded=None, continuation: dict | None = None) -> Path:
+    """Write the checkpoint of a scratch run that has converged up to pseudo-time ``tau`` (see the module doc).
+
+    ``iterations``: Newton iterations so far; ``cutbacks``: cutbacks of the finished phases (those of the running
+    phase are in its ``continuation``, which is ``None`` at a phase end)."""
+    contact_arrays, contact_meta = contact.snapshot()
+    arrays = contact_arrays | ({} if u_loaded is None else {"u_loaded": u_loaded})
+    meta = {"fingerprint": fingerprint(scene, u.size), "record": recorder.position(), "contact": contact_meta,
+            "iterations": int(iterations), "cutbacks": int(cutbacks), "control": None}
+    if continuation is not None:
+        arrays |= {f"solver_{k}": continuation[k] for k in ("f_int", "u_prev") if continuation[k] is not None}
+        meta["control"] = continuation["control"]
+    return save_checkpoint(path, u, state, float(tau), float(tau), arrays=arrays, meta=meta)
+
+
+def load_scratch_checkpoint(path, scene, ndof: int) -> dict | None:
+    """The checkpoint at ``path`` (``None`` if there is none), checked against ``scene`` and ``ndof``."""
+    path = Path(path)
+    if not path.exists():
+        return None
+    saved = load_checkpoint(path)
+    expected = fingerprint(scene, ndof)
+    if saved["meta"].get("fingerprint") != expected:
+        raise ValueError(f"resume: the checkpoint {path} belongs to another scratch run (scene or mesh differ: "
+                         f"{saved['meta'].get('fingerprint')} != {expected}); delete it or choose another output")
+    arrays, control = saved["arrays"], saved["meta"]["control"]
+    saved["u_loaded"] = arrays.pop("u_loaded", None)
+    saved["continuation"] = None if control is None else {
+        "u": saved["u"], "state": saved["state"], "load_factor": saved["load_factor"], "control": control,
+        "f_int": arrays.pop("solver_f_int", None), "u_prev": arrays.pop("solver_u_prev", None)}
+    return saved
