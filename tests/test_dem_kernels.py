@@ -177,3 +177,16 @@ def test_numpy_results_are_built_when_read_and_survive_pickling_and_copies():
         assert not any(callable(v) for v in other._results.values())
         for name in ("normal", "fn", "force"):
             np.testing.assert_array_equal(getattr(other, name), getattr(c, name))
+
+
+def test_a_contact_set_pickled_before_the_results_were_deferred_still_loads():
+    """Snapshots and cached beams written by earlier versions hold ``normal``, ``fn`` and ``force`` as fields."""
+    from abrakit.dem.state import ContactSet
+
+    c = ContactSet.empty_history([0], [1], 2)
+    old = {k: v for k, v in c.__dict__.items() if k != "_results"}
+    old |= {"normal": np.array([[1.0], [0.0], [0.0]]), "fn": np.array([2.0]), "force": np.array([[2.0], [0.0], [0.0]])}
+    loaded = ContactSet.__new__(ContactSet)
+    loaded.__setstate__(old)
+    assert loaded.fn[0] == 2.0 and loaded.force[0, 0] == 2.0 and loaded.normal[0, 0] == 1.0
+    assert "fn" not in loaded.__dict__ and len(loaded) == 1

@@ -24,18 +24,21 @@ from __future__ import annotations
 from dataclasses import dataclass, field, fields
 
 import numpy as np
+from numpy.typing import ArrayLike
 
-from abrakit.validation import check_finite, check_positive, check_range, check_shape
+from abrakit.validation import check_finite, check_positive, check_range, check_shape, number_arguments
 
 __all__ = ["ContactSet", "Particles", "pair_keys", "sphere_mass", "sphere_inertia"]
 
 
-def sphere_mass(radius, density):
+@number_arguments
+def sphere_mass(radius: ArrayLike, density: ArrayLike):
     """Mass of a solid sphere, m = 4/3 π r³ ρ [kg]."""
     return 4.0 / 3.0 * np.pi * np.asarray(radius, float) ** 3 * density
 
 
-def sphere_inertia(mass, radius):
+@number_arguments
+def sphere_inertia(mass: ArrayLike, radius: ArrayLike):
     """Moment of inertia of a solid sphere about its centre, I = 2/5 m r² [kg m²]."""
     return 0.4 * np.asarray(mass, float) * np.asarray(radius, float) ** 2
 
@@ -197,6 +200,15 @@ class ContactSet:
         for name in list(self._results):
             self._result(name)
         return self.__dict__.copy()
+
+    def __setstate__(self, state: dict) -> None:
+        """Also reads pickles written before the results were deferred (``normal``, ``fn``, ``force`` as fields)."""
+        state = dict(state)
+        results = state.pop("_results", None)
+        if results is None:
+            results = {name: state.pop(name) for name in ("normal", "fn", "force") if name in state}
+        self.__dict__.update(state)
+        self._results = results
 
     normal = property(lambda self: self._result("normal"), lambda self, v: self._set_result("normal", v),
                       doc="(3, M) unit normal n from A to B, Eq. (4.1), of the last force evaluation")
