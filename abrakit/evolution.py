@@ -27,11 +27,12 @@ from dataclasses import dataclass
 from typing import NamedTuple
 
 import numpy as np
+from numpy.typing import ArrayLike
 from scipy.integrate import solve_ivp
 from scipy.optimize import minimize_scalar
 from scipy.special import wrightomega
 
-from .validation import check_number_fields, check_option, check_positive
+from .validation import check_number_fields, check_option, check_positive, number_arguments
 
 __all__ = [
     "SCHEMES",
@@ -604,7 +605,8 @@ def reference_solution(model, strain_fn, time, dissipation: Dissipation, state0=
     return {name: sol.y[i] for i, name in enumerate(fields._fields)}
 
 
-def observed_order(dt, error, last: int = 3) -> float:
+@number_arguments
+def observed_order(dt: ArrayLike, error: ArrayLike, last: int = 3) -> float:
     """Slope of log(error) over log(Δt) through the ``last`` smallest steps (least squares)."""
     dt, error = np.asarray(dt, float), np.asarray(error, float)
     keep = np.argsort(dt)[:last]

@@ -31,6 +31,7 @@ from typing import NamedTuple
 
 import numpy as np
 import scipy.sparse as sp
+from numpy.typing import ArrayLike
 from scipy.sparse.linalg import splu
 
 from .tensors import (
@@ -42,7 +43,15 @@ from .tensors import (
     to_mandel4,
     to_voigt,
 )
-from .validation import check_finite, check_option, check_poisson, check_positive, check_range, check_shape
+from .validation import (
+    check_finite,
+    check_option,
+    check_poisson,
+    check_positive,
+    check_range,
+    check_shape,
+    number_arguments,
+)
 
 VARIANTS = ("published", "consistent", "affine")
 
@@ -134,7 +143,9 @@ def contact_stiffnesses(E, nu, rho_c, radius, variant: str = "published"):
 # --- bonded material: contact forces and failure stresses, Eq. (5.22)–(5.26) -----------------------------
 
 
-def contact_forces(sigma, directions, rho_c, radius, variant: str = "published"):
+@number_arguments
+def contact_forces(sigma: ArrayLike, directions: ArrayLike, rho_c: ArrayLike, radius: ArrayLike,
+                   variant: str = "published"):
     """Normal and tangential contact forces (N) under the macroscopic stress sigma (Pa), Eq. (5.24).
 
     ``t^n = alpha/(rho_c r) (n.sigma.n) n``, ``t^t = alpha/(rho_c r) (sigma.n - (n.sigma.n) n)`` with
@@ -257,7 +268,8 @@ def constraint_gradient(u, directions, weights, radius, variant: str = "publishe
     return alpha / check_positive("radius", radius) * np.einsum("m,...mi,mj->...ij", w, u, n)
 
 
-def affine_contact_displacements(grad_u, directions, radius):
+@number_arguments
+def affine_contact_displacements(grad_u: ArrayLike, directions: ArrayLike, radius: ArrayLike):
     """Relative centre displacements of an affine field, ``u(n) = grad u . (2 r n)`` (branch vector 2 r n)."""
     grad_u = check_shape("grad_u", np.asarray(grad_u, dtype=float), (..., 3, 3))
     n = check_shape("directions", np.asarray(directions, dtype=float), (None, 3))

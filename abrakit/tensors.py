@@ -17,8 +17,9 @@ from __future__ import annotations
 from functools import cache, lru_cache
 
 import numpy as np
+from numpy.typing import ArrayLike
 
-from .validation import check_option, check_poisson, check_positive
+from .validation import check_option, check_poisson, check_positive, number_arguments
 
 #: Index pairs of the Voigt/Mandel positions, order (11, 22, 33, 23, 13, 12), Eq. (2.17).
 VOIGT_PAIRS = ((0, 0), (1, 1), (2, 2), (1, 2), (0, 2), (0, 1))
@@ -124,7 +125,8 @@ def norm(A) -> np.ndarray:
     return np.sqrt(ddot(A, A))
 
 
-def outer(A, B) -> np.ndarray:
+@number_arguments
+def outer(A: ArrayLike, B: ArrayLike) -> np.ndarray:
     """Dyadic product ``(A (x) B)_ijkl = A_ij B_kl``."""
     return np.einsum("...ij,...kl->...ijkl", _check_tensor("A", A), _check_tensor("B", B))
 

@@ -13,6 +13,7 @@ import inspect
 from collections.abc import Iterable
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 
 def _describe(low, high, low_open, high_open) -> str:
@@ -100,11 +101,14 @@ def broadcast_shapes(**arrays) -> tuple:
         raise ValueError(f"shapes do not broadcast: {shapes}") from exc
 
 
-_NUMBERS = {"float": (int, float, np.integer, np.floating), "int": (int, np.integer)}
+_NUMBERS = {"float": (int, float, np.integer, np.floating), "int": (int, np.integer), "ArrayLike": ()}
 
 
 def _number_kind(annotation) -> tuple[str, bool] | None:
-    """``("float" | "int", optional)`` for an annotation ``float``, ``int``, ``float | None``, ``int | None``."""
+    """``("float" | "int" | "ArrayLike", optional)`` for an annotation ``float``, ``int``, ``ArrayLike`` (numpy's:
+    a number or an array of real numbers), each possibly ``| None``."""
+    if annotation is ArrayLike:
+        return ("ArrayLike", False)
     text = (annotation if isinstance(annotation, str) else getattr(annotation, "__name__", str(annotation)))
     text = text.replace(" ", "")
     optional = text.endswith("|None") or text.startswith("None|")
@@ -116,7 +120,20 @@ def _check_number(name: str, value, kind: str, optional: bool) -> None:
     """A number of ``kind`` (or an array of them for ``float``) without NaN, or ``None`` if ``optional``."""
     if value is None and optional:
         return
+    if kind != "int":                                  # the fast paths of kernels: a float, a float array
+        if type(value) is float and value == value:
+            return
+        if type(value) is np.ndarray and value.dtype.kind == "f":
+            if np.isnan(value).any():
+                raise ValueError(f"{name} must not hold NaN")
+            return
+    elif type(value) is int:
+        return
     allowed = f"a{'n integer' if kind == 'int' else ' real number'}{' or None' if optional else ''}"
+    if kind == "ArrayLike":
+        if value is None or isinstance(value, str | bytes):
+            raise TypeError(f"{name} must be {allowed} or an array of them, got {value!r}")
+        kind = "float"
     if kind == "float" and isinstance(value, np.ndarray | list | tuple) and not isinstance(value, bool):
         try:                                           # vectorised functions take arrays where a float is annotated
             array = np.asarray(value, dtype=float)
@@ -145,16 +162,21 @@ def check_number_fields(obj) -> None:
 
 
 def number_arguments(func):
-    """Decorator: the arguments of ``func`` annotated ``float`` or ``int`` (or ``... | None``) are checked on every
-    call as :func:`check_number_fields` checks fields (a ``float`` argument may also be an array without NaN)."""
-    signature = inspect.signature(func)
-    rules = {name: rule for name, p in signature.parameters.items() if (rule := _number_kind(p.annotation))}
+    """Decorator: the arguments of ``func`` annotated ``float``, ``int`` or ``ArrayLike`` (or ``... | None``) are
+    checked on every call as :func:`check_number_fields` checks fields (a ``float`` argument may also be an array
+    without NaN; an ``ArrayLike`` one is a number or an array of real numbers without NaN, never None or a string)."""
+    parameters = inspect.signature(func).parameters.values()
+    positional = (inspect.Parameter.POSITIONAL_ONLY, inspect.Parameter.POSITIONAL_OR_KEYWORD)
+    index = {p.name: k for k, p in enumerate(parameters) if p.kind in positional}
+    rules = [(p.name, index.get(p.name), rule) for p in parameters if (rule := _number_kind(p.annotation))]
 
     @functools.wraps(func)
-    def checked(*args, **kwargs):
-        for name, value in signature.bind(*args, **kwargs).arguments.items():
-            if name in rules:
-                _check_number(name, value, *rules[name])
+    def checked(*args, **kwargs):            # the arguments given, by position or name (defaults are trusted)
+        for name, position, rule in rules:
+            if position is not None and position < len(args):
+                _check_number(name, args[position], *rule)
+            elif name in kwargs:
+                _check_number(name, kwargs[name], *rule)
         return func(*args, **kwargs)
 
     return checked

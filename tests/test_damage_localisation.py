@@ -85,9 +85,11 @@ def test_cross_section_shape():
 
 
 def test_invalid_input():
-    for n in (4, 1, 2.5, True):
+    for n in (4, 1, 2.5):
         with pytest.raises(ValueError, match="n_elements"):
             bar_mesh(n)
+    with pytest.raises(TypeError, match="n_elements must be an integer, got True"):
+        bar_mesh(True)
     with pytest.raises(ValueError, match="length"):
         bar_mesh(5, -1.0)
     with pytest.raises(ValueError, match="depth"):

@@ -1,7 +1,10 @@
 """Tests of the shared input checks and of the result files written as a run goes."""
 
+from __future__ import annotations
+
 import numpy as np
 import pytest
+from numpy.typing import ArrayLike
 
 from abrakit import io
 from abrakit import validation as V
@@ -176,3 +179,16 @@ def test_number_arguments_checks_annotated_arguments_and_keeps_arrays():
     with pytest.raises(ValueError, match="x must not hold NaN"):
         scaled(np.array([1.0, np.nan]))
     assert scaled.__wrapped__.__name__ == "scaled"
+
+    @number_arguments
+    def doubled(values: ArrayLike, limit: ArrayLike | None = None):
+        return 2.0 * np.asarray(values, dtype=float)
+
+    assert doubled(1.5) == 3.0 and np.array_equal(doubled([[1.0], [2.0]]), [[2.0], [4.0]])
+    assert doubled(1.0, limit=None) == 2.0
+    for bad, error, message in ((None, TypeError, "values must be a real number or an array of them, got None"),
+                                ("abc", TypeError, "values must be a real number"),
+                                ([1.0, np.nan], ValueError, "values must not hold NaN"),
+                                (np.nan, ValueError, "values must be a number, got nan")):
+        with pytest.raises(error, match=message):
+            doubled(bad)

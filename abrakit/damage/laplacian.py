@@ -89,9 +89,10 @@ from dataclasses import dataclass
 import numpy as np
 import scipy.sparse as sp
 import skfem
+from numpy.typing import ArrayLike
 from scipy.optimize import nnls
 
-from abrakit.validation import check_finite, check_option, check_positive, check_range, check_shape
+from abrakit.validation import check_finite, check_option, check_positive, check_range, check_shape, number_arguments
 
 #: Element families with a Taylor stencil: mesh class -> number of face neighbours.
 SUPPORTED_MESHES = {
@@ -118,6 +119,7 @@ NONNEGATIVE_CONSTRAINT_WEIGHT = 1e8
 NONNEGATIVE_TOLERANCE = 1e-8
 
 
+@number_arguments
 def taylor_terms(dim: int) -> tuple[tuple[int, ...], ...]:
     """Unknowns of Eq. (6.69) in order: first ``(k,)``, mixed second ``(k, p)``, unmixed second ``(k, k)``."""
     first = [(k,) for k in range(dim)]
@@ -126,6 +128,7 @@ def taylor_terms(dim: int) -> tuple[tuple[int, ...], ...]:
     return tuple(first + mixed + unmixed)
 
 
+@number_arguments
 def derivative_names(dim: int) -> tuple[str, ...]:
     """Names of the unknowns of Eq. (6.69), e.g. ``('f_x', 'f_y', 'f_xy', 'f_xx', 'f_yy')`` in 2D."""
     return tuple("f_" + "".join(_AXES[k] for k in term) for term in taylor_terms(dim))
@@ -176,7 +179,8 @@ def face_neighbours(mesh) -> np.ndarray:
     return np.where(first == own, second, first)
 
 
-def mirror_points(points, facet_nodes) -> np.ndarray:
+@number_arguments
+def mirror_points(points: ArrayLike, facet_nodes: ArrayLike) -> np.ndarray:
     """Mirror ``points`` (m, dim) across the planes through facets with node coordinates (m, nodes, dim).
 
     The plane is fitted to the facet nodes (centroid and the least singular direction), so warped quadrilateral
@@ -623,6 +627,7 @@ def _with_rows(matrix, owner, sources, weights) -> sp.csr_matrix:
     return sp.csr_matrix((vals, (rows, cols)), shape=matrix.shape)
 
 
+@number_arguments
 def unit_cube_mesh(kind: str, n: int, *, grading: str = "none", perturb: float = 0.0, seed: int = 0):
     """Tensor-product test mesh of the unit interval/square/cube with ``n`` cells per side (tests, demo, benchmark).
 

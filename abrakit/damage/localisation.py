@@ -34,7 +34,7 @@ import skfem
 
 from ..fem import Dirichlet, Kinematics, NewtonOptions, PathControl, Solver, StepControl, node_row_dofs, vector_basis
 from ..materials import TABLE_7_1, TABLE_7_2, ModelIDamage, ModelIIDamage
-from ..validation import check_positive, check_range
+from ..validation import check_positive, check_range, number_arguments
 from .model_one_fe import ModelISolver
 from .model_one_path import ModelIPathFollowingSolver
 
@@ -55,6 +55,7 @@ def bar_models(beta: float = 1.0, alpha: float = 0.01) -> dict:
     }
 
 
+@number_arguments
 def bar_mesh(n_elements: int, length: float = 20.0) -> skfem.MeshQuad:
     """One row of ``n_elements`` square quadrilaterals on [0, length] x [0, h]; boundaries left, right, bottom."""
     if isinstance(n_elements, bool) or int(n_elements) != n_elements or n_elements < 3 or n_elements % 2 == 0:

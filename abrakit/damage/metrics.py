@@ -41,8 +41,9 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
+from numpy.typing import ArrayLike
 
-from ..validation import check_range
+from ..validation import check_range, number_arguments
 
 
 def _curve(u, F, name="curve"):
@@ -80,7 +81,9 @@ def _integral_of_square(x, g) -> float:
     return float(np.sum(h * (g[:-1] ** 2 + g[:-1] * g[1:] + g[1:] ** 2) / 3.0))
 
 
-def curve_distance(u, F, u_ref, F_ref, *, u_range: tuple[float, float] | None = None) -> float:
+@number_arguments
+def curve_distance(u: ArrayLike, F: ArrayLike, u_ref: ArrayLike, F_ref: ArrayLike, *,
+                   u_range: tuple[float, float] | None = None) -> float:
     """Relative L2 distance of curve (u, F) from (u_ref, F_ref) over their common displacement range.
 
     ``u_range`` narrows the range (it must lie inside the common one). Normalised by ``max |F_ref|`` on the range,

@@ -58,11 +58,12 @@ from functools import lru_cache
 from pathlib import Path
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from ..fem.solver import NewtonFailure, NewtonResult, Solver, StepContext, StepFailed
 from ..io import CurveWriter, write_json
 from ..materials.model_one import damage_function_update
-from ..validation import check_option, check_range
+from ..validation import check_option, check_range, number_arguments
 from .laplacian import ElementLaplacian, element_laplacian
 
 SNAP_BACK = ("pass", "stop")
@@ -201,7 +202,8 @@ def damage_update(material, state: dict, dx: np.ndarray, laplacian: ElementLapla
     return new
 
 
-def gradient_energy(f: np.ndarray, volumes: np.ndarray, laplacian: ElementLaplacian | None, beta: float) -> float:
+@number_arguments
+def gradient_energy(f: ArrayLike, volumes: ArrayLike, laplacian: ElementLaplacian | None, beta: float) -> float:
     """``int beta/2 |grad f|^2 dV`` (6.24) with the stencil's reconstructed gradient at the element centres (N mm)."""
     if laplacian is None or beta == 0.0:
         return 0.0

@@ -58,11 +58,12 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from ..io import CurveWriter, VtuSeries, write_json
 from ..materials import TABLE_7_2, ModelIIDamage
 from ..materials.model_two import damage_function, effective_damage_function
-from ..validation import check_positive, check_range
+from ..validation import check_positive, check_range, number_arguments
 
 CURVE_COLUMNS = ("step", "load_factor", "u", "F", "external_work", "rate_limit_work", "damage_increment",
                  "stored_energy", "plastic_dissipation", "damage_dissipation", "threshold_dissipation",
@@ -70,7 +71,8 @@ CURVE_COLUMNS = ("step", "load_factor", "u", "F", "external_work", "rate_limit_w
                  "cutbacks", "seconds")
 
 
-def element_mean(values: np.ndarray, dx: np.ndarray) -> np.ndarray:
+@number_arguments
+def element_mean(values: ArrayLike, dx: ArrayLike) -> np.ndarray:
     """Volume average over each element of a quadrature-point field ``(nel, nqp)``: ``int_e v dV / V_e``."""
     return np.einsum("eq,eq->e", values, dx) / dx.sum(axis=1)
 

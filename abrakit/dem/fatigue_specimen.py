@@ -21,11 +21,12 @@ from abrakit.dem.simulation import Simulation
 from abrakit.dem.state import Particles
 from abrakit.fatigue.bond_law import BondParameters
 from abrakit.io import RunRecord
-from abrakit.validation import check_positive, check_range
+from abrakit.validation import check_positive, check_range, number_arguments
 
 __all__ = ["bonded_bar", "cyclic_bar", "history_deviation"]
 
 
+@number_arguments
 def bonded_bar(params: BondParameters | None = None, *, columns: int = 5, rows: int = 2, radius: float = 0.05,
                density: float = 2650.0, local_damping: float = 0.7, safety: float = 0.8, track_energy: bool = False):
     """A hexagonal bar of ``rows`` × ``columns`` disks of radius ``radius`` [m] with fatigue bonds of width 2r.
@@ -104,6 +105,7 @@ def cyclic_bar(sim: Simulation, loaded, stress_min: float, stress_max: float, *,
     return result
 
 
+@number_arguments
 def history_deviation(run: dict, reference: dict, key: str = "max_damage", start: float | None = None) -> float:
     """Largest relative deviation of ``run[key]`` from ``reference[key]`` interpolated at the run's cycles (both
     :func:`cyclic_bar` results, or any dicts with ``"cycles"`` and ``key``); the reference starts at cycle 0 with

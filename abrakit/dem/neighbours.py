@@ -10,14 +10,17 @@ keys with ``np.searchsorted`` (:func:`transfer_history`).
 from __future__ import annotations
 
 import numpy as np
+from numpy.typing import ArrayLike
 from scipy.spatial import cKDTree
 
 from abrakit.dem.state import ContactSet, pair_keys
+from abrakit.validation import number_arguments
 
 __all__ = ["VerletList", "candidate_pairs", "largest_distance", "transfer_history", "wall_candidates"]
 
 
-def candidate_pairs(x, radius, skin, clump=None, periodic=None, compiled=False):
+@number_arguments
+def candidate_pairs(x: ArrayLike, radius: ArrayLike, skin: float, clump=None, periodic=None, compiled=False):
     """Index pairs ``i < j`` whose surface gap is below ``skin`` [m]; pairs inside one clump are skipped.
 
     ``periodic`` (:class:`~abrakit.dem.periodic.Periodic`, positions inside its cell): the tree is toroidal

@@ -24,7 +24,7 @@ from abrakit.dem.measure import coordination_number, energy_balance, kinetic_ene
 from abrakit.dem.simulation import Simulation
 from abrakit.dem.state import Particles, sphere_mass
 from abrakit.dem.walls import Walls
-from abrakit.validation import check_finite, check_option, check_positive, check_range
+from abrakit.validation import check_finite, check_option, check_positive, check_range, number_arguments
 
 __all__ = [
     "bonded_chain_wave",
@@ -91,8 +91,9 @@ def _run_impact(sim, overlap_of, relative_velocity_of, v0, analytic, steps_per_c
     }
 
 
-def two_sphere_impact(radius=0.01, density=2650.0, kn=1e5, damping_ratio=0.0, velocity=1.0, *,
-                      local_damping=0.0, steps_per_contact=200) -> dict:
+@number_arguments
+def two_sphere_impact(radius: float = 0.01, density: float = 2650.0, kn: float = 1e5, damping_ratio: float = 0.0,
+                      velocity: float = 1.0, *, local_damping: float = 0.0, steps_per_contact: int = 200) -> dict:
     """Head-on impact of two equal spheres; returns measured and analytic duration, restitution, peak overlap.
 
     ``kn`` is the *contact* normal stiffness K^n [N/m] (each sphere gets k_n = 2K^n, so Eq. 4.11 returns K^n);
@@ -124,8 +125,9 @@ def two_sphere_impact(radius=0.01, density=2650.0, kn=1e5, damping_ratio=0.0, ve
     return _run_impact(sim, overlap, separation_speed, velocity, analytic, steps_per_contact)
 
 
-def sphere_wall_impact(radius=0.01, density=2650.0, kn=1e5, damping_ratio=0.0, velocity=1.0, *,
-                       local_damping=0.0, steps_per_contact=200) -> dict:
+@number_arguments
+def sphere_wall_impact(radius: float = 0.01, density: float = 2650.0, kn: float = 1e5, damping_ratio: float = 0.0,
+                       velocity: float = 1.0, *, local_damping: float = 0.0, steps_per_contact: int = 200) -> dict:
     """A sphere hits a rigid wall at ``velocity``; K^n = ``kn`` (rigid wall, Eq. 4.11), effective mass m.
 
     Returns the same keys as :func:`two_sphere_impact`.
@@ -180,8 +182,9 @@ def rolling_sphere(radius=0.01, density=2650.0, friction=0.3, velocity=1.0, *, g
             "dt": sim.dt}
 
 
-def bonded_pair(mode="tension", kind="contact", *, radius=0.01, density=2650.0, kn=1e6, strength=None,
-                steps_to_failure=2000) -> dict:
+@number_arguments
+def bonded_pair(mode="tension", kind="contact", *, radius: float = 0.01, density: float = 2650.0, kn: float = 1e6,
+                strength: float | None = None, steps_to_failure: int = 2000) -> dict:
     """Two touching spheres, bonded, driven apart (``tension``), sideways (``shear``) or, for parallel bonds,
     turned (``bending``) at constant rate until the bond breaks.
 
@@ -235,7 +238,9 @@ def bonded_pair(mode="tension", kind="contact", *, radius=0.01, density=2650.0, 
             "increment": float(np.max(np.abs(np.diff(carried[:10])))) if len(carried) > 10 else np.nan}
 
 
-def bonded_chain_wave(n=200, *, radius=0.005, density=2650.0, k=1e5, width=8.0, amplitude=None) -> dict:
+@number_arguments
+def bonded_chain_wave(n: int = 200, *, radius: float = 0.005, density: float = 2650.0, k: float = 1e5,
+                      width: float = 8.0, amplitude: float | None = None) -> dict:
     """A right-running Gaussian pulse (width ``width`` spacings) along a chain of ``n`` contact-bonded spheres.
 
     The spacing is ℓ = 2r, the bond stiffness K^n = ``k``; the pulse peak is tracked and a line fitted to its
@@ -275,9 +280,10 @@ def bonded_chain_wave(n=200, *, radius=0.005, density=2650.0, k=1e5, width=8.0, 
             "time": np.array(times), "peak_position": np.array(peaks)}
 
 
-def settling(n=300, *, seed=0, radius=0.005, spread=0.2, density=2650.0, kn=1e5, friction=0.4,
-             wall_friction=0.0, local_damping=0.3, box=None, steps=None, max_steps=20_000, law=None,
-             progress=False) -> tuple[Simulation, dict]:
+@number_arguments
+def settling(n: int = 300, *, seed: int = 0, radius: float = 0.005, spread: float = 0.2, density: float = 2650.0,
+             kn: float = 1e5, friction: float = 0.4, wall_friction: float = 0.0, local_damping: float = 0.3, box=None,
+             steps: int | None = None, max_steps: int = 20_000, law=None, progress=False) -> tuple[Simulation, dict]:
     """``n`` polydisperse spheres (radii r(1 ± spread)) dropped from a loose grid into a box, settling under
     gravity.
 

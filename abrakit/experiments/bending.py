@@ -37,6 +37,7 @@ import time
 from dataclasses import asdict, dataclass
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from abrakit.dem.fatigue_bonds import install_fatigue_bonds
 from abrakit.dem.measure import relax
@@ -46,7 +47,7 @@ from abrakit.experiments.disk_packing import disk_packing, fuller_radii
 from abrakit.experiments.specimen import cache_dir
 from abrakit.fatigue.bond_law import BondParameters
 from abrakit.io import RunRecord, VtuSeries, load_state, save_state
-from abrakit.validation import check_number_fields, check_option, check_positive, check_range
+from abrakit.validation import check_number_fields, check_option, check_positive, check_range, number_arguments
 
 __all__ = ["Beam", "BeamSpec", "beam_theory_deflection", "cyclic_bending", "flexural", "four_point_beam",
            "monotonic_bending", "table_two", "uniaxial_modulus"]
@@ -234,7 +235,8 @@ def _faces(y, radius):
     return (y - radius < np.min(y - radius) + tolerance), (y + radius > np.max(y + radius) - tolerance)
 
 
-def flexural(load, deflection, spec: BeamSpec) -> dict:
+@number_arguments
+def flexural(load: ArrayLike, deflection: ArrayLike, spec: BeamSpec) -> dict:
     """Flexural stress, strain and modulus from the load P [N] and deflection δ [m] (seed 002 Eqs. 42–44)."""
     P, d = np.asarray(load, float), np.asarray(deflection, float)
     S, W, H = spec.span, spec.width, spec.height
@@ -243,7 +245,9 @@ def flexural(load, deflection, spec: BeamSpec) -> dict:
     return {"stress": P * S / (W * H**2), "strain": 108.0 * H * d / (23.0 * S**2), "modulus": modulus}
 
 
-def beam_theory_deflection(load, modulus, poisson, spec: BeamSpec, *, shear: bool = True) -> float:
+@number_arguments
+def beam_theory_deflection(load: ArrayLike, modulus: float, poisson: float, spec: BeamSpec, *, shear: bool = True
+                           ) -> float:
     """Mid-span deflection of third-point bending [m]: Euler–Bernoulli 23 P S³/(108 E W H³) (the inverse of Eq. 44)
     plus, with ``shear``, Timoshenko's shear part P a/(2 κ G W H) with a = (S − spacing)/2, κ = 5/6 and
     G = E/(2(1 + ν)) (2D plane stress). For S/H = 3 the shear part adds about a quarter."""

@@ -31,13 +31,14 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from abrakit.dem import love_weber_stress
 from abrakit.dem.contact_laws import rowdot
 from abrakit.dem.measure import contact_counts
 from abrakit.experiments.specimen import Material, Specimen
 from abrakit.io import progress_bar
-from abrakit.validation import check_option, check_positive, check_range
+from abrakit.validation import check_option, check_positive, check_range, number_arguments
 
 __all__ = [
     "SCHEMES",
@@ -93,7 +94,8 @@ def sphere_stress(sim, centre, radius: float) -> np.ndarray:
     return 0.5 * (sigma + sigma.T) / (4.0 / 3.0 * np.pi * radius**3)
 
 
-def best_fit_gradient(x0, x):
+@number_arguments
+def best_fit_gradient(x0: ArrayLike, x: ArrayLike):
     """Least-squares displacement gradient G of u = x − x₀ ≈ G (x₀ − x̄₀) + t over the given points, (3, 3)."""
     u = x - x0
     y = x0 - x0.mean(axis=0)
@@ -286,6 +288,7 @@ def peak_strength(curve: CompressionCurve, scheme: str = "wall") -> dict:
             "eps_axial": float(c["eps_axial"][k])}
 
 
+@number_arguments
 def crack_initiation_stress(curve: CompressionCurve, fraction: float = 0.01, scheme: str = "wall") -> float:
     """σ_ci: the axial stress when ``fraction`` (0.01) of the cracks present at the peak have formed [Pa];
     NaN if no bond broke before the peak."""

@@ -39,6 +39,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
+from numpy.typing import ArrayLike
 from scipy.spatial import cKDTree
 
 from abrakit.dem import (
@@ -52,7 +53,7 @@ from abrakit.dem import (
 )
 from abrakit.dem.measure import contact_counts, relax, unbalanced_force_ratio
 from abrakit.io import dumps, loads, write_atomically
-from abrakit.validation import check_number_fields, check_option, check_positive, check_range
+from abrakit.validation import check_number_fields, check_option, check_positive, check_range, number_arguments
 
 __all__ = [
     "GENESIS_VERSION",
@@ -242,7 +243,8 @@ def random_placement(rng, radius, size, *, max_rounds: int = 1000):
     raise RuntimeError("random placement found no overlap-free arrangement; the placement porosity is too low")
 
 
-def interior_window(lengths, margin: float):
+@number_arguments
+def interior_window(lengths: ArrayLike, margin: float):
     """The box ``[margin, L - margin]`` inside a vessel ``[0, L]`` (``margin`` [m] per side), as (lower, upper)."""
     lengths = np.asarray(lengths, float)
     if np.any(lengths <= 2 * margin):
@@ -250,7 +252,9 @@ def interior_window(lengths, margin: float):
     return np.full(3, float(margin)), lengths - margin
 
 
-def interior_porosity(x, radius, window, *, samples: int = 100_000, seed: int = 0) -> float:
+@number_arguments
+def interior_porosity(x: ArrayLike, radius: ArrayLike, window: ArrayLike, *, samples: int = 100_000, seed: int = 0
+                      ) -> float:
     """Porosity of the box ``window = (lower, upper)`` by Monte Carlo sampling of points against the spheres
     (overlaps counted once; the standard error is about √(η(1−η)/samples) ≈ 0.0015 for 10⁵ samples)."""
     lo, hi = (np.asarray(a, float) for a in window)
@@ -392,7 +396,8 @@ def bounding_radius(radius, shape):
     return np.select([shape == 0, shape == 1], [radius, 1.5 * a], 2.0 * a)
 
 
-def members(centres, radius, shape, rotation):
+@number_arguments
+def members(centres: ArrayLike, radius: ArrayLike, shape, rotation):
     """Member spheres of the grains: ``(x (K, 3), radius (K,), clump (K,))``; spheres get clump id −1, clumps
     are numbered from 0. ``rotation`` (N, 3, 3) turns the template (members along the x-axis)."""
     xs, rs, ids = [], [], []

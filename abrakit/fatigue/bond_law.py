@@ -37,8 +37,9 @@ from __future__ import annotations
 from dataclasses import asdict, dataclass
 
 import numpy as np
+from numpy.typing import ArrayLike
 
-from abrakit.validation import check_finite, check_number_fields, check_positive, check_range
+from abrakit.validation import check_finite, check_number_fields, check_positive, check_range, number_arguments
 
 __all__ = ["BondParameters", "bond_stresses", "criterion", "damage_after", "flow_direction", "plastic_return"]
 
@@ -104,7 +105,7 @@ class BondParameters:
         return BondParameters(**{**asdict(self), **changes})
 
 
-def criterion(sigma_n, sigma_s, damage, p: BondParameters, level=1.0):
+def criterion(sigma_n: ArrayLike, sigma_s: ArrayLike, damage: ArrayLike, p: BondParameters, level: ArrayLike = 1.0):
     """Yield function F (Eq. 18, ``level`` = 1) or fatigue criterion F_f (Eq. 23, ``level`` = a) [Pa²].
 
     ``level`` scales the cohesion and the tensile strength; F < 0 inside. Beyond the apex's far branch the
@@ -115,7 +116,8 @@ def criterion(sigma_n, sigma_s, damage, p: BondParameters, level=1.0):
     return p.alpha**2 * np.asarray(sigma_s, float) ** 2 - q * np.abs(q) + q0 * q0
 
 
-def flow_direction(sigma_n, sigma_s, damage, p: BondParameters, level=1.0):
+def flow_direction(sigma_n: ArrayLike, sigma_s: ArrayLike, damage: ArrayLike, p: BondParameters,
+                   level: ArrayLike = 1.0):
     """Plastic flow direction (∂G/∂σ_n, ∂G/∂σ_s)/2 = (tan ψ [level·c(1 − D) − σ_n tan ψ], σ_s) (Eq. 19, 20; with
     ``level`` = a, the ratio of fatigue displacements of Eq. 37)."""
     return (p.tan_psi * (level * p.cohesion * (1.0 - np.asarray(damage, float)) - np.asarray(sigma_n) * p.tan_psi),
@@ -129,7 +131,8 @@ def damage_after(damage, du_n, du_s, p: BondParameters):
     return damage - (1.0 - damage) * np.expm1(-np.abs(du_n) / p.un - np.abs(du_s) / p.us)
 
 
-def bond_stresses(elastic_n, elastic_s, damage, p: BondParameters, kn=None, ks=None):
+def bond_stresses(elastic_n: ArrayLike, elastic_s: ArrayLike, damage: ArrayLike, p: BondParameters,
+                  kn: ArrayLike | None = None, ks: ArrayLike | None = None):
     """(σ_n, σ_s) from the elastic displacements uᵉ = u − uᵖ − uᶠ (Eq. 15, 16): degraded stiffness in tension,
     full normal stiffness in compression. ``kn``, ``ks`` (per bond) replace ``p.kn``, ``p.ks`` if given."""
     kn, ks = (p.kn if kn is None else kn), (p.ks if ks is None else ks)
@@ -201,8 +204,9 @@ def _newton(y, args, tol, max_iter):
     return y, np.max(np.abs(r), axis=0) < tol
 
 
-def plastic_return(trial_n, trial_s, damage, p: BondParameters, *, normal_stress=None, start=None, stiffness=None,
-                   tol=1e-12, max_iter=60, max_halvings=12):
+@number_arguments
+def plastic_return(trial_n: ArrayLike, trial_s: ArrayLike, damage: ArrayLike, p: BondParameters, *, normal_stress=None,
+                   start=None, stiffness=None, tol: float = 1e-12, max_iter: int = 60, max_halvings: int = 12):
     """Return a trial state onto the yield surface (Eqs. 15–22); vectorised over bonds.
 
     ``trial_n``, ``trial_s`` are the elastic displacements u − uᵖ − uᶠ at the start-of-step plastic state, ``damage``

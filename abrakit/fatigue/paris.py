@@ -22,9 +22,10 @@ them with its stress range frozen: ΔD_f^j = [Y_j √D_j / (Y_1 √D_1)]ᵐ ΔD_
 from __future__ import annotations
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from abrakit.fatigue.bond_law import BondParameters, criterion, damage_after, flow_direction
-from abrakit.validation import check_finite, check_positive, check_range
+from abrakit.validation import check_finite, check_positive, check_range, number_arguments
 
 __all__ = ["cycle_jump", "cycle_update", "fatigue_displacements", "geometric_factor", "paris_increment",
            "stress_intensity_range", "tensile_part"]
@@ -36,7 +37,8 @@ def geometric_factor(damage):
     return (1.0 - 0.025 * d**2 + 0.06 * d**4) * np.sqrt(1.0 / np.cos(0.5 * np.pi * d))
 
 
-def tensile_part(sigma):
+@number_arguments
+def tensile_part(sigma: ArrayLike):
     """⟨σ⟩ = max(σ, 0): a closed crack sees no mode I loading."""
     return np.maximum(sigma, 0.0)
 
@@ -57,7 +59,9 @@ def paris_increment(damage, range_n, range_s, p: BondParameters, width=None):
     return np.minimum(rate, 1.0 - np.asarray(damage, float))
 
 
-def fatigue_displacements(damage, increment, sigma_n, sigma_s, p: BondParameters):
+@number_arguments
+def fatigue_displacements(damage: ArrayLike, increment: ArrayLike, sigma_n: ArrayLike, sigma_s: ArrayLike,
+                          p: BondParameters):
     """Normal and shear fatigue displacements (Δu_nᶠ, Δu_sᶠ) [m] that raise D by ``increment`` (Eqs. 35–37).
 
     The shear displacement has the sign of σ_s; at σ_s = 0 (pure mode I) all of it is normal."""
@@ -72,7 +76,9 @@ def fatigue_displacements(damage, increment, sigma_n, sigma_s, p: BondParameters
     return ratio_n * scale, np.sign(sigma_s) * ratio_s * scale
 
 
-def cycle_jump(damage, increment, jump: float, *, max_cycles=None, exponent=None, other_rate: float = 0.0):
+@number_arguments
+def cycle_jump(damage: ArrayLike, increment: ArrayLike, jump: float, *, max_cycles: float | None = None,
+               exponent: float | None = None, other_rate: float = 0.0):
     """Cycle jump (Eqs. 40, 41): ``(n_jump, total_increment)`` for bonds whose first-cycle increments ΔD_f¹ are
     ``increment`` at damage ``damage``.
 
@@ -103,8 +109,9 @@ def cycle_jump(damage, increment, jump: float, *, max_cycles=None, exponent=None
     return n_jump, d - damage
 
 
-def cycle_update(damage, peak, low, p: BondParameters, *, width=None, eligible=True, jump: float | None = None,
-                 max_cycles=None, ratchet=None):
+@number_arguments
+def cycle_update(damage: ArrayLike, peak, low, p: BondParameters, *, width=None, eligible=True,
+                 jump: float | None = None, max_cycles: float | None = None, ratchet=None):
     """The fatigue update of one load cycle at the onset of its unloading (Sec. 3.2, Fig. 5), for bonds whose cycle
     ran between the stresses ``low`` = (σ_n, σ_s) and ``peak`` = (σ_n, σ_s).
 

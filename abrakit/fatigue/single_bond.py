@@ -21,7 +21,7 @@ import numpy as np
 
 from abrakit.fatigue.bond_law import BondParameters, criterion, plastic_return
 from abrakit.fatigue.paris import cycle_update
-from abrakit.validation import check_number_fields, check_option, check_positive, check_range
+from abrakit.validation import check_number_fields, check_option, check_positive, check_range, number_arguments
 
 __all__ = ["BondTest", "cyclic_test", "monotonic_test", "softening_energy"]
 
@@ -133,8 +133,10 @@ def monotonic_test(p: BondParameters, mode: str, *, increment=2e-7, until_damage
                        f"raise increment or max_steps")
 
 
-def cyclic_test(p: BondParameters, mode: str, *, stress_min=20e3, stress_max=60e3, target_damage=0.4,
-                jump: float | None = None, to_failure=True, increment=2e-7, max_cycles=1_000_000) -> BondTest:
+@number_arguments
+def cyclic_test(p: BondParameters, mode: str, *, stress_min: float = 20e3, stress_max: float = 60e3,
+                target_damage: float = 0.4, jump: float | None = None, to_failure=True, increment: float = 2e-7,
+                max_cycles: int = 1_000_000) -> BondTest:
     """Cyclic stress between ``stress_min`` and ``stress_max`` until D ≥ ``target_damage``, then (``to_failure``)
     monotonic displacement control to failure. ``jump`` = ΔD_jump switches the cycle jump on (Eqs. 40, 41)."""
     check_range("stress_min", stress_min, 0.0, stress_max, high_open=True)

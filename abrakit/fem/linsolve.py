@@ -22,8 +22,9 @@ import numpy as np
 import scipy.linalg as sla
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
+from numpy.typing import ArrayLike
 
-from ..validation import check_option
+from ..validation import check_option, check_positive, check_range, number_arguments
 
 # 3D problems with more free DOFs than this use AMG under linear_solver="auto" (benchmarks/bench_linear_solvers.py,
 # elastic hex block, factorisation + solve against AMG set-up + CG): with PARDISO 0.79 s vs 1.12 s at 28k DOFs and
@@ -182,9 +183,12 @@ class DirectSolver:
     Counters: ``analyses``, ``factorisations``, ``solves`` and the seconds spent in each (``times``).
     """
 
+    @number_arguments
     def __init__(self, backend: str = "auto", order: np.ndarray | None = None, check_tol: float = 1e-8,
                  refinements: int = 2):
         check_option("backend", backend, BACKENDS)
+        check_positive("check_tol", check_tol)
+        check_range("refinements", refinements, 0, None)
         self.refinements = int(refinements)
         self._order = order
         self.backend = None if backend == "auto" else self._make(backend)
@@ -315,7 +319,8 @@ class AMGSolver:
                                "iterations")
 
 
-def make_linear_solver(kind, dim: int, n_free: int, near_null_space=None):
+@number_arguments
+def make_linear_solver(kind, dim: int, n_free: int, near_null_space: ArrayLike | None = None):
     """Linear solver for ``kind`` in ("auto", "direct", "pardiso", "superlu", "dense", "amg") or a user
     object/callable.
 

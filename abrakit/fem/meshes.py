@@ -38,6 +38,7 @@ def graded(n: int, ratio: float = 1.0) -> np.ndarray:
     return np.concatenate(([0.0], np.cumsum(sizes) / sizes.sum()))
 
 
+@number_arguments
 def graded_towards(a: float, b: float, n: int, fine_at: float | None = None, ratio: float = 1.0) -> np.ndarray:
     """Points from ``a`` to ``b`` with about ``n`` elements, finest at ``fine_at`` (a node), coarsening by ``ratio``."""
     if fine_at is None or ratio == 1.0:
@@ -147,6 +148,7 @@ def _tensor_without(xs, ys, holes):
     return skfem.MeshQuad(np.ascontiguousarray(mesh.p[:, used]), np.ascontiguousarray(t.reshape(4, -1)))
 
 
+@number_arguments
 def double_notched_specimen(width: float = 50.0, height: float = 100.0, notch_depth: float = 10.0,
                             notch_width: float = 2.0, offset: float = 10.0, h_fine: float = 1.0,
                             grading: float = 5.0):
@@ -188,6 +190,7 @@ def double_notched_specimen(width: float = 50.0, height: float = 100.0, notch_de
                 right=lambda x: (x[0] > width * (1 - _TOL)) & ~in_notch(x))
 
 
+@number_arguments
 def sharp_notch_specimen(width: float = 50.0, height: float = 40.0, notch: float = 25.0, n_x: int = 40,
                          n_y: int = 16, grading: float = 6.0):
     """Upper half of the ``width`` x ``height`` specimen with a sharp horizontal notch of length ``notch``.

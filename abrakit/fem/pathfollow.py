@@ -59,7 +59,7 @@ import scipy.sparse.linalg as spla
 
 from ..io import progress_bar
 from ..materials.base import MaterialResponse
-from ..validation import check_number_fields, check_option, check_positive, check_range
+from ..validation import check_finite, check_number_fields, check_option, check_positive, check_range
 from .linsolve import LinearSolveError
 from .solver import NewtonFailure, Solver, SolveResult, StepContext, StepFailed, _Recorder
 
@@ -110,6 +110,9 @@ class LinearConstraint:
     ``gradient``)."""
 
     tau: float
+
+    def __post_init__(self):
+        check_number_fields(self)
 
     def residual(self, p: PathPoint) -> float:
         raise NotImplementedError
@@ -181,6 +184,11 @@ class OpeningControl(LinearConstraint):
     weights: np.ndarray = None
     name = "opening"
 
+    def __post_init__(self):
+        super().__post_init__()
+        if self.weights is not None:
+            self.weights = check_finite("weights", self.weights)
+
     def residual(self, p):
         return float(self.weights @ p.du) - self.tau
 
@@ -198,6 +206,9 @@ class ArcLength:
 
     tau: float      # Δl (mm)
     name = "arc length"
+
+    def __post_init__(self):
+        check_number_fields(self)
 
     def residual(self, p):
         return increment_length(p.du[p.free], p.dlam, p.u_hat) - self.tau

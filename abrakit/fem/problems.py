@@ -130,7 +130,9 @@ class ThickCylinderSolution:
         return 2 * (1 - nu**2) * self.k * c**2 / (E * b)
 
 
-def thick_cylinder_solution(inner, outer, E, nu, yield_stress) -> ThickCylinderSolution:
+@number_arguments
+def thick_cylinder_solution(inner: float, outer: float, E: float, nu: float, yield_stress:
+                            float) -> ThickCylinderSolution:
     check_positive("inner", inner)
     check_range("outer", outer, inner, None, low_open=True)
     return ThickCylinderSolution(inner, outer, check_positive("E", E), nu, check_positive("yield_stress", yield_stress))

@@ -18,6 +18,7 @@ from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from .. import tensors as T
 from ..validation import check_positive, number_arguments
@@ -67,7 +68,7 @@ class DriverError(RuntimeError):
 
 
 @number_arguments
-def ramp(peak, n_steps: int) -> np.ndarray:
+def ramp(peak: ArrayLike, n_steps: int) -> np.ndarray:
     """``n_steps`` equal increments from 0 to ``peak`` (the values after each step)."""
     if n_steps < 1:
         raise ValueError(f"n_steps must be >= 1, got {n_steps}")

@@ -32,10 +32,11 @@ from dataclasses import dataclass
 from functools import cached_property
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from .. import tensors as T
 from ..compiled import HAVE_NUMBA, njit, prange
-from ..validation import check_finite, check_shape
+from ..validation import check_finite, check_shape, number_arguments
 from .elastic import LinearElastic
 from .plasticity import VonMisesPlasticity
 
@@ -55,7 +56,8 @@ def log_divided_differences(lam: np.ndarray) -> np.ndarray:
     return ratio / lj
 
 
-def log_derivative(vectors: np.ndarray, gamma: np.ndarray, h: np.ndarray) -> np.ndarray:
+@number_arguments
+def log_derivative(vectors: ArrayLike, gamma: ArrayLike, h: ArrayLike) -> np.ndarray:
     """D ln(b)[h] = Q (Γ ∘ Qᵀ h Q) Qᵀ for b = Q diag(λ) Qᵀ; ``h`` (..., [k,] 3, 3) symmetric directions."""
     Q = vectors if h.ndim == vectors.ndim else vectors[..., None, :, :]
     G = gamma if h.ndim == gamma.ndim else gamma[..., None, :, :]
@@ -153,7 +155,9 @@ def _tangent_compiled(F_inv, Q, lam, D, P):  # pragma: no cover - compiled; chec
     return A.reshape(n, 9, 9)
 
 
-def material_tangent(F_inv, Q, lam, D, P, compiled: bool | None = None) -> np.ndarray:
+@number_arguments
+def material_tangent(F_inv: ArrayLike, Q: ArrayLike, lam: ArrayLike, D: ArrayLike, P: ArrayLike,
+                     compiled: bool | None = None) -> np.ndarray:
     """A = ∂P/∂F for a batch of points: the numba kernel where numba is installed (``compiled=None``), else the
     vectorised NumPy :func:`_tangent`; both give the same numbers (tested)."""
     if compiled is None:

@@ -26,8 +26,9 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
+from numpy.typing import ArrayLike
 
-from ..validation import check_number_fields, check_option, check_poisson, check_positive, check_range
+from ..validation import check_number_fields, check_option, check_poisson, check_positive, check_range, number_arguments
 from .base import IsotropicElasticity, MaterialResponse, check_strain
 from .plasticity import INTEGRATIONS, plastic_step
 
@@ -40,12 +41,15 @@ def damage_function(d):
     return np.exp(-np.asarray(d, dtype=float))
 
 
-def damage_indicator(f, psi0_bar, laplacian, beta: float, r_d: float):
+@number_arguments
+def damage_indicator(f: ArrayLike, psi0_bar: ArrayLike, laplacian: ArrayLike, beta: float, r_d: float):
     """``Phi_d = f Psibar0 - beta f Lambda_f - r_d`` (MPa), Eq. (6.64)/(6.76)."""
     return f * psi0_bar - beta * f * laplacian - r_d
 
 
-def damage_function_update(f_old, psi0_bar, laplacian, laplacian_derivative, beta: float, r_d: float, f_min: float):
+@number_arguments
+def damage_function_update(f_old: ArrayLike, psi0_bar: ArrayLike, laplacian: ArrayLike,
+                           laplacian_derivative: ArrayLike, beta: float, r_d: float, f_min: float):
     """New damage function of Eq. (6.76)/(6.77): the root of ``Phi_d(f) = 0`` in ``(0, f^m)`` where ``Phi_d(f^m) > 0``.
 
     With ``Lambda_f(f) = Lambda_f + D Lambda_f (f - f^m)`` (6.74, 6.75) the indicator is

@@ -32,8 +32,17 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
+from numpy.typing import ArrayLike
 
-from ..validation import check_finite, check_number_fields, check_option, check_poisson, check_positive, check_range
+from ..validation import (
+    check_finite,
+    check_number_fields,
+    check_option,
+    check_poisson,
+    check_positive,
+    check_range,
+    number_arguments,
+)
 from .base import IsotropicElasticity, MaterialResponse, check_strain, outer
 from .plasticity import INTEGRATIONS, plastic_step
 
@@ -62,14 +71,16 @@ def erve_strains(eps, f_i):
     return (f_bar[..., None] / f_i)[..., None] * np.asarray(eps)[..., None, :]
 
 
-def driving_forces(d, psi0):
+@number_arguments
+def driving_forces(d: ArrayLike, psi0: ArrayLike):
     """``p_d,i = -f_bar^2 f'(d_i) / (n f(d_i)^2) Psi0 = 2 f_bar^2 Psi0 / (n (1 - d_i)^3)`` (MPa), Eq. (6.94)."""
     d = np.asarray(d, dtype=float)
     f_bar = effective_damage_function(damage_function(d))
     return 2.0 * (f_bar**2 * np.asarray(psi0))[..., None] / (d.shape[-1] * (1.0 - d) ** 3)
 
 
-def damage_sweep(d_old, psi0, increment, r_d: float, d_max: float = 0.999):
+@number_arguments
+def damage_sweep(d_old: ArrayLike, psi0: ArrayLike, increment: ArrayLike, r_d: float, d_max: float = 0.999):
     """New sub-domain damage of Algorithm 2: rule (6.95) with the rate limit (6.103) and the cap ``d_max``.
 
     Sub-domain i grows by ``increment`` (= ``alpha l_ext dt``) where ``p_d,i > r_d / n``, visiting i = 1..n in

@@ -13,8 +13,9 @@ from __future__ import annotations
 from typing import NamedTuple
 
 import numpy as np
+from numpy.typing import ArrayLike
 
-from abrakit.validation import broadcast_shapes, check_poisson, check_positive
+from abrakit.validation import broadcast_shapes, check_poisson, check_positive, number_arguments
 
 __all__ = ["HertzContact", "effective_modulus", "hertz_depth", "hertz_sphere"]
 
@@ -36,7 +37,9 @@ def _out(x):
     return float(x) if x.ndim == 0 else x
 
 
-def effective_modulus(E, nu, E_indenter=np.inf, nu_indenter=QUARTZ_POISSON) -> float:
+@number_arguments
+def effective_modulus(E: ArrayLike, nu: ArrayLike, E_indenter: ArrayLike = np.inf,
+                      nu_indenter: ArrayLike = QUARTZ_POISSON) -> float:
     """Contact modulus E* = 1 / ((1 − ν²)/E + (1 − ν_i²)/E_i) in MPa; a rigid indenter (E_i = ∞) gives E/(1 − ν²)."""
     E = check_positive("E", E)
     nu = check_poisson("nu", nu)
@@ -47,7 +50,9 @@ def effective_modulus(E, nu, E_indenter=np.inf, nu_indenter=QUARTZ_POISSON) -> f
     return 1.0 / compliance
 
 
-def hertz_sphere(E, nu, R, d, *, E_indenter=np.inf, nu_indenter=QUARTZ_POISSON) -> HertzContact:
+@number_arguments
+def hertz_sphere(E: ArrayLike, nu: ArrayLike, R: ArrayLike, d: ArrayLike, *, E_indenter: ArrayLike = np.inf,
+                 nu_indenter: ArrayLike = QUARTZ_POISSON) -> HertzContact:
     """Force, contact radius and peak pressure of a sphere (radius ``R``, mm) pressed to depth ``d`` (mm, ≥ 0,
     scalar or array) into a half-space of modulus ``E`` (MPa) and Poisson's ratio ``nu``; the indenter is rigid
     unless ``E_indenter`` is given (e.g. quartz, 73000 MPa and ν = 0.17, Table 8.1)."""
@@ -60,7 +65,9 @@ def hertz_sphere(E, nu, R, d, *, E_indenter=np.inf, nu_indenter=QUARTZ_POISSON) 
     return HertzContact(_out(force), _out(radius), _out(pressure), float(E_star))
 
 
-def hertz_depth(F, E, nu, R, *, E_indenter=np.inf, nu_indenter=QUARTZ_POISSON):
+@number_arguments
+def hertz_depth(F: ArrayLike, E: ArrayLike, nu: ArrayLike, R: ArrayLike, *, E_indenter: ArrayLike = np.inf,
+                nu_indenter: ArrayLike = QUARTZ_POISSON):
     """Indentation depth (mm) under force ``F`` (N, ≥ 0): d = (3F / (4 E* √R))^(2/3), the inverse of
     :func:`hertz_sphere`."""
     E_star = effective_modulus(E, nu, E_indenter, nu_indenter)

@@ -64,7 +64,7 @@ from abrakit.scratch.groove import (
 from abrakit.scratch.hertz import hertz_sphere
 from abrakit.scratch.indenters import ConicalIndenter, FineZone, ScratchPath, SphericalIndenter, check_path
 from abrakit.scratch.record import PHASES, ScratchRecorder
-from abrakit.validation import check_number_fields, check_option, check_positive, check_range
+from abrakit.validation import check_number_fields, check_option, check_positive, check_range, number_arguments
 
 __all__ = [
     "GrooveBalance",
@@ -151,6 +151,7 @@ def _growing(length: float, h: float, growth: float) -> np.ndarray:
     return sizes * (length / sizes.sum())
 
 
+@number_arguments
 def zoned_axis(lo: float, hi: float, fine_lo: float, fine_hi: float, h: float, growth: float) -> np.ndarray:
     """Node coordinates on [lo, hi]: uniform elements of about ``h`` on [fine_lo, fine_hi] (the effective zone),
     sizes growing geometrically by ``growth`` towards both ends (intermediate and coarse zones of Fig. 8.3)."""
@@ -870,6 +871,7 @@ class HertzCheck(NamedTuple):
     wall_time: float
 
 
+@number_arguments
 def hertz_indentation(h: float, penalty: float = 1.0, *, R: float = 0.05, d: float = 5e-4, steps: int = 4,
                       extent: float = 30.0, growth: float = 1.4, linear_solver: str = "auto",
                       kinematics: str = "small") -> HertzCheck:
