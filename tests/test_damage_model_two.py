@@ -248,3 +248,39 @@ def test_sharp_notch_corner_damage_comes_from_the_grip():
     pulled = bench.traction(sp, 1.5 * held["peak_N"] / sp.force_scale / 50.0)
     assert area[corner & (held["loss"] > 0.5)].sum() > 15.0                  # mm² of a 25 mm² zone
     assert pulled["status"] == "fractured" and pulled["loss"][corner].max() < 0.01
+
+
+def test_a_killed_run_resumes_from_its_checkpoint_with_the_uninterrupted_curve(tmp_path):
+    """Checkpoints every 4 steps; killed after step 10, the rerun goes back to step 8 and ends with the steps,
+    curve, energy account, fields and state of a run never stopped, to round-off (the resumed solver analyses its
+    first matrix afresh: 4e-15 relative); each step is on disk once, and a finished run's rerun returns at once. A
+    checkpoint of another run is refused by name."""
+    def run(directory, **options):
+        return run_model_two(double_notched(300), 0.005, steps=40, end=0.5, output=tmp_path / directory,
+                             vtu_every=3, checkpoint_every=4, linear_solver="superlu", **options)
+
+    def kill(result):
+        if result.steps == 10:
+            raise KeyboardInterrupt
+
+    full = run("full")
+    with pytest.raises(KeyboardInterrupt):
+        run("cut", on_step=kill)
+    assert load_checkpoint(tmp_path / "cut" / "last_converged.npz")["meta"]["account"]["rows"][-1]["step"] == 8
+    resumed = run("cut", resume=True)
+    assert resumed.steps == full.steps and resumed.cutbacks == full.cutbacks and resumed.status == full.status
+    for name, values in full.curves.items():
+        if name != "seconds":
+            np.testing.assert_allclose(resumed.curves[name], values, rtol=1e-12, atol=1e-12, err_msg=name)
+    np.testing.assert_allclose(resumed.u, full.u, rtol=0, atol=1e-14)
+    np.testing.assert_allclose(resumed.f_bar, full.f_bar, rtol=0, atol=1e-12)
+    on_disk = read_curve(tmp_path / "cut" / "force_displacement.csv")
+    np.testing.assert_array_equal(on_disk["step"], np.arange(full.steps + 1))
+    np.testing.assert_allclose(on_disk["F"], full.curves["F"], rtol=1e-12)
+    assert sorted(p.name for p in (tmp_path / "cut" / "fields").glob("*.vtu")) == \
+        sorted(p.name for p in (tmp_path / "full" / "fields").glob("*.vtu"))
+    again = run("cut", resume=True)
+    np.testing.assert_array_equal(again.curves["F"], resumed.curves["F"])
+    assert again.status == full.status and again.wall_time < 0.5 * full.wall_time
+    with pytest.raises(ValueError, match="another Model II run"):
+        run_model_two(double_notched(300), 0.05, steps=40, end=0.5, output=tmp_path / "cut", resume=True)

@@ -38,8 +38,10 @@ the stress carries ``f_bar^{m+1}``: it shrinks in proportion to the load step.
 **Output** (directory ``output``): ``force_displacement.csv`` (one row per converged step, written as the run
 goes), ``fields/damage.pvd`` + ``.vtu`` (every ``vtu_every`` steps and the last one: displacement; per element
 ``f_bar``, ``stiffness_loss = 1 - f_bar``, ``d_mean`` and ``d_max`` over the sub-domains, ``alpha_p``,
-``psi0``, ``von_mises``), ``summary.json``, and ``last_converged.npz`` (the final state, or the last good one
-when a step failed; :func:`abrakit.fem.load_checkpoint` reads it).
+``psi0``, ``von_mises``), ``summary.json``, and ``last_converged.npz`` (:func:`abrakit.fem.load_checkpoint` reads
+it): every ``checkpoint_every`` steps and at the end (the final state, or the last good one when a step failed)
+the state, the energy account with its rows and the solver's step control, from which ``resume=True`` continues a
+killed run.
 
 **Sudden force drops.** A step whose Newton iterations fail (a band snapping through) is cut back by the solver
 (the damage increment shrinks with the displacement increment); below ``control.minimum`` the run stops with
@@ -56,6 +58,7 @@ import warnings
 from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
+from types import SimpleNamespace
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -235,7 +238,7 @@ def run_model_two(specimen, alpha: float = 0.05, *, material: ModelIIDamage | No
                   end: float = 1.0, stop_fraction: float | None = None, output: str | Path | None = None,
                   vtu_every: int = 0, control=None, newton=None, linear_solver="auto", progress: bool = False,
                   on_step: Callable[[ModelTwoResult], None] | None = None, path=None,
-                  method: str = "dissipation") -> ModelTwoResult:
+                  method: str = "dissipation", checkpoint_every: int = 10, resume: bool = False) -> ModelTwoResult:
     """Load ``specimen`` (:mod:`abrakit.damage.specimens`) with Model II: Algorithm 2 at every quadrature point.
 
     Parameters
@@ -251,6 +254,10 @@ def run_model_two(specimen, alpha: float = 0.05, *, material: ModelIIDamage | No
     path, method : path following (a :class:`~abrakit.fem.PathControl` and the constraint method of
         :class:`~abrakit.fem.PathFollowingSolver`) instead of ``steps`` equal displacement increments; see
         :func:`model_two_solver` for the rate limit under path following.
+    checkpoint_every, resume : with ``output``, ``last_converged.npz`` is also written every ``checkpoint_every``
+        converged steps (0: only at the end) with the energy account, the rows and the solver's step control;
+        ``resume=True`` continues a killed run from it (``force_displacement.csv`` and the VTU series rewound), and
+        a finished run's rerun returns its result at once. Displacement control only (``path=None``).
     """
     from ..fem import StepFailed
     from ..fem.output import RunWriter, cell_fields, meshio_cells, save_checkpoint
@@ -259,6 +266,10 @@ def run_model_two(specimen, alpha: float = 0.05, *, material: ModelIIDamage | No
     if stop_fraction is not None:
         check_range("stop_fraction", stop_fraction, 0.0, 1.0, low_open=True, high_open=True)
     vtu_every = int(check_range("vtu_every", vtu_every, 0, None))
+    check_range("checkpoint_every", checkpoint_every, 0, None)
+    if resume and path is not None:
+        raise ValueError("resume: run_model_two resumes displacement-controlled runs only (path=None); a "
+                         "path-followed run resumes through PathFollowingSolver.run(output=..., resume=True)")
     solver = model_two_solver(specimen.basis, material, specimen.dirichlet, force_scale=specimen.force_scale,
                               steps=steps, control=control, newton=newton, linear_solver=linear_solver, end=end,
                               path=path, method=method)
@@ -292,7 +303,7 @@ def run_model_two(specimen, alpha: float = 0.05, *, material: ModelIIDamage | No
     def account(res):
         """Energies and checks of the last converged step (the first call records the start)."""
         state, u, f_int = res.state, res.u, res.f_int
-        step = len(res.load_factors) - 1
+        step = len(book.rows)                    # rows[0] is the start: continued runs number on
         f_bar = f_bar_of(state)
         row = {"step": step, "load_factor": float(res.load_factors[-1]),
                "u": float(np.mean(u[loaded])), "F": scale * float(np.sum(f_int[loaded])),
@@ -346,25 +357,63 @@ def run_model_two(specimen, alpha: float = 0.05, *, material: ModelIIDamage | No
             wall_time=_time.perf_counter() - t0, alpha=float(material.alpha), elements=int(kin.nel), output=out,
             checkpoint=checkpoint)
 
+    fingerprint = {"material": repr(material), "steps": steps, "end": end, "dofs": int(kin.ndof),
+                   "elements": int(kin.nel)}
+
+    def save(res, status="running", message=""):
+        """The checkpoint: the converged state, the energy account and rows, the VTU entries, the step control."""
+        continuation = res.continuation or {}
+        arrays = {"f_int": res.f_int}
+        if continuation.get("u_prev") is not None:
+            arrays["u_prev"] = continuation["u_prev"]
+        account_ = {k: getattr(book, k) for k in ("rows", "external", "plastic", "released", "threshold", "peak")}
+        meta = {"fingerprint": fingerprint, "account": account_, "control": continuation.get("control"),
+                "vtu": [] if vtu is None else [list(e) for e in vtu.entries], "status": status, "message": message}
+        return save_checkpoint(out / RunWriter.CHECKPOINT, res.u, res.state, float(res.load_factors[-1]),
+                               float(res.times[-1]), arrays=arrays, meta=meta)
+
     def after_step(res):
         account(res)
+        if out is not None and checkpoint_every and (len(book.rows) - 1) % checkpoint_every == 0:
+            save(res)
         if on_step is not None:
             on_step(result("running", "", res))
         F = book.rows[-1]["F"]
         if stop_fraction is not None and len(book.rows) > 2 and F < stop_fraction * book.peak:
             raise _Stop()
 
-    # the unloaded start (the solver records it but reports only converged steps to on_step)
-    start_state = material.initial_state((kin.nel, kin.nqp))
-    book.u_prev, book.f_prev = solver.constraints.apply(np.zeros(kin.ndof), 0.0), np.zeros(kin.ndof)
-    book.rows.append({k: 0.0 for k in CURVE_COLUMNS} | {"min_f_bar": 1.0, "u": float(np.mean(book.u_prev[loaded]))})
+    saved = _model_two_checkpoint(out, fingerprint) if resume and out is not None else None
+    continuation = None
+    if saved is None:    # the unloaded start (the solver records it but reports only converged steps to on_step)
+        book.u_prev, book.f_prev = solver.constraints.apply(np.zeros(kin.ndof), 0.0), np.zeros(kin.ndof)
+        book.rows.append({k: 0.0 for k in CURVE_COLUMNS}
+                         | {"min_f_bar": 1.0, "u": float(np.mean(book.u_prev[loaded]))})
+        book.state_prev = material.initial_state((kin.nel, kin.nqp))
+    else:                # where the checkpoint left the run: its account, rows and output
+        meta = saved["meta"]
+        for name, value in meta["account"].items():
+            setattr(book, name, value)
+        book.u_prev, book.f_prev, book.state_prev = saved["u"], saved["arrays"]["f_int"], saved["state"]
+        if vtu is not None:
+            vtu.restart([(float(t), str(name)) for t, name in meta["vtu"]])
+        if meta["status"] != "running":            # a finished run: its result at once, nothing recomputed
+            if writer is not None:
+                for row in book.rows:
+                    writer.write(**row)
+                writer.close()
+            solve = SimpleNamespace(u=saved["u"], state=saved["state"], cutbacks=int(book.rows[-1]["cutbacks"]))
+            return result(meta["status"], meta["message"], solve, out / RunWriter.CHECKPOINT)
+        continuation = {"u": saved["u"], "state": saved["state"], "load_factor": saved["load_factor"],
+                        "f_int": saved["arrays"]["f_int"], "u_prev": saved["arrays"].get("u_prev"),
+                        "control": meta["control"]}
     if writer is not None:
-        writer.write(**book.rows[0])
-    book.state_prev = start_state
+        for row in book.rows:
+            writer.write(**row)
     status, message, checkpoint = "end", "", None
     try:
         book.clock = _time.perf_counter()
-        solve = solver.run(end=end, progress=progress, on_step=after_step, output=None)   # starts at start_state
+        resumed = {} if continuation is None else {"continuation": continuation}      # from the checkpoint
+        solve = solver.run(end=end, progress=progress, on_step=after_step, output=None, **resumed)
     except _Stop:
         solve = book.last
         status = "fractured"
@@ -385,14 +434,28 @@ def run_model_two(specimen, alpha: float = 0.05, *, material: ModelIIDamage | No
         book.last = solve
     if out is not None:
         last = book.last
-        checkpoint = save_checkpoint(out / RunWriter.CHECKPOINT, last.u, last.state,
-                                     float(last.load_factors[-1]), float(last.times[-1]))
         if not vtu_every or (len(book.rows) - 1) % vtu_every:
             write_fields(last, len(book.rows) - 1)
+        checkpoint = save(last, status, message)
     res = result(status, message, solve if status != "fractured" else book.last, checkpoint)
     if out is not None:
         write_json(out / "summary.json", {"specimen": specimen.summary(), **res.summary()})
     return res
+
+
+def _model_two_checkpoint(out: Path, fingerprint: dict) -> dict | None:
+    """The checkpoint in ``out`` (``None`` if there is none), refused by name if it belongs to another run."""
+    from ..fem.output import RunWriter, load_checkpoint
+
+    path = out / RunWriter.CHECKPOINT
+    if not path.exists():
+        return None
+    saved = load_checkpoint(path)
+    if saved["meta"].get("fingerprint") != fingerprint:
+        raise ValueError(f"resume: the checkpoint {path} belongs to another Model II run (material, steps or mesh "
+                         f"differ: {saved['meta'].get('fingerprint')} != {fingerprint}); delete it or choose another "
+                         "output")
+    return saved
 
 
 def demo() -> str:
