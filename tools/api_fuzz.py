@@ -7,8 +7,9 @@ Two stages:
    arguments are plain data: numbers, strings, ``None``, numpy arrays, tuples, lists and dicts of these, and
    abrakit dataclasses made of them. They are pickled into ``tools/api_calls.pkl``: valid calls, by construction.
 2. **fuzz** replays each valid call (its result must hold no NaN or infinity) and then the same call with one
-   numeric argument made invalid: NaN for a number, a NaN entry for an array, a string for a number, ``None`` for a
-   value that is not ``None`` by default. Every outcome falls in one class (:data:`OUTCOMES`):
+   numeric argument made invalid: NaN for a number, a NaN entry for an array, a string for a number, ``None`` where
+   neither the default (``None``) nor the annotation (``... | None``) allows it. Every outcome falls in one class
+   (:data:`OUTCOMES`):
 
    - ``named``: ``ValueError``/``TypeError`` whose message names the parameter (what the toolkit promises);
    - ``unnamed``: ``ValueError``/``TypeError`` that does not name it;
@@ -32,6 +33,7 @@ import importlib
 import inspect
 import pickle
 import pkgutil
+import re
 import signal
 import sys
 import time
@@ -53,7 +55,15 @@ OUTCOMES = ("named", "unnamed", "deep", "non_finite", "accepted", "timeout")
 NAN_ALLOWED = {
     ("abrakit.experiments.closed_form_checks.mean_interval", "values"): "NaN samples are dropped and counted "
                                                                         "(``dropped``)",
+    ("abrakit.io.jsonable", "obj"): "results hold NaN where a quantity is undefined; strict JSON writes it as the "
+                                    "string \"NaN\"",
+    ("abrakit.io.strict_json", "data"): "the same: NaN and infinities become the strings NaN, Infinity, -Infinity",
+    ("abrakit.io.from_strict_json", "data"): "the inverse: the strings come back as NaN and infinities",
 }
+
+#: Modules of input checks: their ``name`` argument is the parameter their errors must name (``check_range("x",
+#: None)`` says "x must be ..."), so an error naming it is named.
+VALIDATORS = re.compile(r"^abrakit\.validation$")
 
 #: Records and state containers the toolkit builds and returns: their fields are outputs, checked where they are
 #: computed, and the functions users call to make them (``Particles.spheres``, ``genesis``, ...) check their input.
@@ -210,8 +220,9 @@ def finite(value, depth: int = 0) -> bool:
     return True
 
 
-def invalid_values(value, default):
-    """``(label, bad value)`` for one argument: only values that are invalid for every numeric parameter."""
+def invalid_values(value, none_valid: bool):
+    """``(label, bad value)`` for one argument: only values that are invalid for every numeric parameter (``None``
+    unless ``none_valid``: a default of ``None`` or an annotation that allows it)."""
     out = []
     if isinstance(value, bool) or not isinstance(value, int | float | np.number | np.ndarray):
         return out
@@ -223,7 +234,7 @@ def invalid_values(value, default):
         return out
     out.append(("nan", float("nan")))
     out.append(("string", "abc"))
-    if default is not None:
+    if not none_valid:
         out.append(("none", None))
     return out
 
@@ -250,7 +261,9 @@ def outcome(call, kwargs, parameter, limit: float = 2.0) -> tuple[str, str]:
         return "timeout", f"ran longer than {limit:g} s"
     except (ValueError, TypeError) as exc:
         text = str(exc)
-        return ("named" if parameter in text else "unnamed"), f"{type(exc).__name__}: {text[:160]}"
+        names = {parameter} | ({str(kwargs["name"])} if VALIDATORS.match(getattr(call, "__module__", "") or "")
+                                and "name" in kwargs else set())         # a check names what it was told to
+        return ("named" if any(n in text for n in names) else "unnamed"), f"{type(exc).__name__}: {text[:160]}"
     except Exception as exc:       # noqa: BLE001 - classifying every escape is the point
         return "deep", f"{type(exc).__name__}: {str(exc)[:160]}"
     finally:
@@ -307,9 +320,9 @@ def fuzz(catalogue: dict, *, slow: float = SLOW_CALL, limit: float = 2.0, skip=(
         for parameter, value in kwargs.items():
             if (name, parameter) in NAN_ALLOWED:
                 continue
-            default = signature.parameters[parameter].default
-            default = None if default is inspect.Parameter.empty else default
-            for label, bad in invalid_values(value, default if default is not None else 0.0):
+            declared = signature.parameters[parameter]
+            none_valid = declared.default is None or "None" in str(declared.annotation)
+            for label, bad in invalid_values(value, none_valid):
                 mutated = copy.deepcopy(kwargs)
                 mutated[parameter] = bad
                 kind, text = outcome(call, mutated, parameter, limit)
