@@ -216,6 +216,36 @@ def test_exact_similarity_doubling_d_and_l_gives_the_same_bed():
             == contact_census(two, wall_zone=2 * D, tol=2e-6)["all"]["N_c_D2"])
 
 
+def test_shaking_moves_the_side_walls_and_brings_them_back(monkeypatch):
+    """``shake``: both x walls move together by ``shake`` D per half period, as many periods as asked, and end where
+    they started; the shaken bed is another packing, still pressed to equilibrium. ``shake=0`` is the plain run."""
+    from abrakit.dem import Simulation
+
+    positions, run = [], Simulation.run
+
+    def watched(self, steps, **kw):
+        out = run(self, steps, **kw)
+        positions.append(self.walls.point[[self.walls.index("xmin"), self.walls.index("xmax")], 0].copy())
+        return out
+
+    monkeypatch.setattr(Simulation, "run", watched)
+    shaken, bed = pressed_bed(D, box=4 * D, layers=2, seed=3, kernel="numpy", shake=0.1, shake_cycles=2)
+    monkeypatch.undo()
+    home = np.array([0.0, 4 * D])
+    np.testing.assert_allclose(positions[9] - home, 0.1 * D, rtol=0.01)          # +0.1 D, both walls, in 200 steps
+    np.testing.assert_allclose(positions[19] - home, 0.0, atol=1e-3 * D)         # and back
+    np.testing.assert_allclose(positions[39] - home, 0.0, atol=1e-3 * D)         # two periods
+    walls = shaken.walls
+    assert walls.point[walls.index("xmin"), 0] == 0.0 and walls.point[walls.index("xmax"), 0] == 4 * D
+    assert bed["converged"]
+    plain, _ = pressed_bed(D, box=4 * D, layers=2, seed=3, kernel="numpy")
+    same, _ = pressed_bed(D, box=4 * D, layers=2, seed=3, kernel="numpy", shake=0.0)
+    np.testing.assert_array_equal(plain.particles.x, same.particles.x)
+    assert not np.array_equal(plain.particles.x, shaken.particles.x)
+    with pytest.raises(ValueError, match="shake"):
+        pressed_bed(D, box=4 * D, shake=-0.1)
+
+
 def test_pressed_bed_input_checks():
     with pytest.raises(ValueError, match="box"):
         pressed_bed(D, box=2 * D)

@@ -15,7 +15,9 @@ Protocol (:func:`pressed_bed`), all lengths in units of the coarse diameter D:
 1. grains are placed at random, without overlap, in a column of the box at 25 % solid fraction (random
    sequential addition, :func:`loose_column`); the box is square, L × L, with frictionless walls;
 2. they settle under gravity with dashpots (d_n = 0.3) and local damping α = 0.3 until the unbalanced-force
-   ratio (:func:`unbalanced_force_ratio`) is below 0.05;
+   ratio (:func:`unbalanced_force_ratio`) is below 0.05; with ``shake`` the two x walls first move together
+   back and forth (square-wave velocity, ``shake`` D per half period of 200 steps, ``shake_cycles`` periods, the
+   seed's "small velocity applied to the side walls") and return to their places;
 3. the top wall is lowered onto the bed and held at the pressure ``p`` by a servo; the dashpots are removed (a
    servo fights a velocity-dependent force) and the local damping raised to α = 0.7, until the unbalanced-force
    ratio is below ``balance`` (10⁻³; going on to 10⁻⁵ changes no count in the benchmark) and the plate
@@ -204,8 +206,20 @@ CHECK_EVERY = 200
 """Steps between two checks of equilibrium."""
 
 
-def _settle(sim: Simulation, max_steps: int) -> None:
-    """Stage 2: run under gravity until the unbalanced-force ratio is below :data:`SETTLED`."""
+def _settle(sim: Simulation, max_steps: int, shake: float = 0.0, cycles: int = 0) -> None:
+    """Stage 2: shake the x walls by ``shake`` [m] for ``cycles`` periods (if ``shake``), then run under gravity
+    until the unbalanced-force ratio is below :data:`SETTLED`."""
+    walls = sim.walls
+    sides = [walls.index("xmin"), walls.index("xmax")]
+    home = walls.point[sides, 0].copy()
+    chunk = CHECK_EVERY // 10
+    for half in range(2 * cycles if shake else 0):     # out by ``shake`` and back, one half period each
+        target = home + (shake if half % 2 == 0 else 0.0)
+        for left in range(10, 0, -1):                  # the speed that arrives on time (Δt follows the contacts)
+            walls.velocity[sides, 0] = (target - walls.point[sides, 0]) / (left * chunk * sim.dt)
+            sim.run(chunk, progress=False)
+    walls.velocity[sides, 0] = 0.0
+    walls.point[sides, 0] = home                       # the last chunk's round-off undone
     while sim.step_count < max_steps:
         sim.run(CHECK_EVERY, progress=False)
         if unbalanced_force_ratio(sim) < SETTLED:
@@ -242,7 +256,7 @@ def _press(sim: Simulation, pressure, d_min, balance, max_steps, history):
 
 def pressed_bed(diameter, *, box, fine_diameter=None, theta_coarse=1.0, layers=4.0, pressure=1e4, overlap=1e-2,
                 gravity_ratio=0.5, friction=0.0, density=2200.0, seed=0, balance=1e-3, max_steps=80_000,
-                kernel="auto", history=False) -> tuple[Simulation, dict]:
+                kernel="auto", history=False, shake: float = 0.0, shake_cycles: int = 10) -> tuple[Simulation, dict]:
     """Grains settled under gravity in a square box and pressed by a servo plate (protocol: module doc).
 
     ``diameter`` D (coarse grains A) [m]; ``box`` lateral edge L [m]; ``fine_diameter`` D_B ≤ D [m] and
@@ -251,7 +265,8 @@ def pressed_bed(diameter, *, box, fine_diameter=None, theta_coarse=1.0, layers=4
     p L²; ``friction`` μ of grain contacts (walls are frictionless); ``density`` [kg/m³] (quartz, Table 8.3:
     2200); ``seed`` of ``np.random.default_rng``; ``balance`` the final unbalanced-force ratio; ``kernel``
     "numpy", "numba" or "auto" (numba if installed); ``history`` records, every 200 steps of the pressing stage,
-    the unbalanced-force ratio, the plate stress over p and the number of grains on the whole floor.
+    the unbalanced-force ratio, the plate stress over p and the number of grains on the whole floor. ``shake``
+    (in D, ≥ 0) and ``shake_cycles`` shake the side walls before the settling (protocol step 2).
 
     Returns the simulation and a summary: grain numbers, steps of each stage, whether equilibrium was reached
     within ``max_steps`` (``converged``), final unbalanced-force ratio, plate stress over p, solid fraction,
@@ -271,6 +286,8 @@ def pressed_bed(diameter, *, box, fine_diameter=None, theta_coarse=1.0, layers=4
     eps = check_range("overlap", overlap, 0.0, 0.1, low_open=True)
     gamma = check_positive("gravity_ratio", gravity_ratio)
     mu = check_positive("friction", friction, allow_zero=True)
+    shake = check_positive("shake", shake, allow_zero=True)
+    shake_cycles = int(check_range("shake_cycles", shake_cycles, 0, None))
     kernel = check_option("kernel", kernel, ("auto", "numpy", "numba"))
     kernel = ("numba" if HAVE_NUMBA else "numpy") if kernel == "auto" else kernel
     rng = np.random.default_rng(seed)
@@ -290,7 +307,7 @@ def pressed_bed(diameter, *, box, fine_diameter=None, theta_coarse=1.0, layers=4
     sim = Simulation(grains, law=Linear(damping_normal=0.3), walls=walls, gravity=(0.0, 0.0, -g),
                      local_damping=0.3, track_energy=False, kernel=kernel)
 
-    _settle(sim, max_steps)                                              # stage 2
+    _settle(sim, max_steps, shake * D, shake_cycles)                     # stage 2
     settle_steps = sim.step_count
     converged, ratio, stress, trace = _press(sim, p, diameters.min(), balance, max_steps, history)   # stage 3
 
@@ -373,7 +390,7 @@ def floor_profile(sim: Simulation, *, bin_width, tol, reach=None) -> dict:
 # --- a sweep case and the fits ------------------------------------------------------------------------------
 
 BED_KEYS = ("diameter", "box", "fine_diameter", "theta_coarse", "layers", "pressure", "overlap", "gravity_ratio",
-            "friction", "density", "seed", "balance", "max_steps", "kernel")
+            "friction", "density", "seed", "balance", "max_steps", "kernel", "shake", "shake_cycles")
 TOLERANCES = (0.0, 1e-3, 1e-2, 5e-2)
 """Contact tolerances of a case's census, in diameters of the finest grain."""
 
