@@ -260,7 +260,7 @@ def run_model_two(specimen, alpha: float = 0.05, *, material: ModelIIDamage | No
         a finished run's rerun returns its result at once. Displacement control only (``path=None``).
     """
     from ..fem import StepFailed
-    from ..fem.output import RunWriter, cell_fields, meshio_cells, save_checkpoint
+    from ..fem.output import RunWriter, cell_fields, load_matching_checkpoint, meshio_cells, save_checkpoint
 
     material = default_material(alpha) if material is None else material
     if stop_fraction is not None:
@@ -382,7 +382,9 @@ def run_model_two(specimen, alpha: float = 0.05, *, material: ModelIIDamage | No
         if stop_fraction is not None and len(book.rows) > 2 and F < stop_fraction * book.peak:
             raise _Stop()
 
-    saved = _model_two_checkpoint(out, fingerprint) if resume and out is not None else None
+    saved = (load_matching_checkpoint(out / RunWriter.CHECKPOINT, fingerprint,
+                                      "Model II run (material, steps or mesh differ)")
+             if resume and out is not None else None)
     continuation = None
     if saved is None:    # the unloaded start (the solver records it but reports only converged steps to on_step)
         book.u_prev, book.f_prev = solver.constraints.apply(np.zeros(kin.ndof), 0.0), np.zeros(kin.ndof)
@@ -441,21 +443,6 @@ def run_model_two(specimen, alpha: float = 0.05, *, material: ModelIIDamage | No
     if out is not None:
         write_json(out / "summary.json", {"specimen": specimen.summary(), **res.summary()})
     return res
-
-
-def _model_two_checkpoint(out: Path, fingerprint: dict) -> dict | None:
-    """The checkpoint in ``out`` (``None`` if there is none), refused by name if it belongs to another run."""
-    from ..fem.output import RunWriter, load_checkpoint
-
-    path = out / RunWriter.CHECKPOINT
-    if not path.exists():
-        return None
-    saved = load_checkpoint(path)
-    if saved["meta"].get("fingerprint") != fingerprint:
-        raise ValueError(f"resume: the checkpoint {path} belongs to another Model II run (material, steps or mesh "
-                         f"differ: {saved['meta'].get('fingerprint')} != {fingerprint}); delete it or choose another "
-                         "output")
-    return saved
 
 
 def demo() -> str:

@@ -88,6 +88,21 @@ def load_checkpoint(path) -> dict:
                 "time": float(data["time"]), "arrays": prefixed("extra__"), "meta": meta}
 
 
+def load_matching_checkpoint(path, fingerprint: dict, run: str = "problem") -> dict | None:
+    """:func:`load_checkpoint` of ``path`` for resuming a run whose ``fingerprint`` (what it must match: sizes,
+    parameters) is given; ``None`` if there is no checkpoint. A checkpoint of another ``run`` (another
+    fingerprint, or none: written by an older version) is refused by name, never resumed."""
+    path = Path(path)
+    if not path.exists():
+        return None
+    saved = load_checkpoint(path)
+    found = saved["meta"].get("fingerprint")
+    if found != fingerprint:
+        raise ValueError(f"resume: the checkpoint {path} belongs to another {run} ({found} != {fingerprint}); "
+                         "delete it or choose another output")
+    return saved
+
+
 class RunWriter:
     """Curves CSV (one row per converged step), VTU series every ``vtu_every`` steps, checkpoint on demand.
 

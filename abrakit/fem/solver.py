@@ -40,7 +40,7 @@ from .assembly import Assembler
 from .boundary import Constraints, Dirichlet
 from .kinematics import Kinematics
 from .linsolve import DirectSolver, LinearSolveError, make_linear_solver, rigid_body_modes
-from .output import RunWriter, load_checkpoint
+from .output import RunWriter, load_matching_checkpoint
 
 
 @dataclass(frozen=True)
@@ -239,16 +239,12 @@ class _Recorder:
     def resume(self) -> dict | None:
         """The checkpoint in ``output`` with the history restored and the output files rewound to it, or ``None``
         when there is none. A checkpoint of a different problem (DOFs, elements, points, columns) is refused."""
-        if self.writer is None or not self.writer.checkpoint_path.exists():
+        if self.writer is None:
             return None
-        saved = load_checkpoint(self.writer.checkpoint_path)
+        saved = load_matching_checkpoint(self.writer.checkpoint_path, self._fingerprint())
+        if saved is None:
+            return None
         meta = saved["meta"]
-        if "history" not in meta:
-            raise ValueError(f"{self.writer.checkpoint_path} holds no run history (written by an older version); "
-                             "delete it to start the run afresh")
-        if meta["fingerprint"] != self._fingerprint():
-            raise ValueError(f"resume: the checkpoint {self.writer.checkpoint_path} belongs to another problem "
-                             f"({meta['fingerprint']} != {self._fingerprint()}); delete it or choose another output")
         history = meta["history"]
         for row, iterations, residuals in zip(history["rows"], history["iterations"], history["residuals"],
                                               strict=True):

@@ -15,7 +15,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from abrakit.fem.output import RunWriter, load_checkpoint, save_checkpoint
+from abrakit.fem.output import RunWriter, load_matching_checkpoint, save_checkpoint
 
 __all__ = ["CHECKPOINT", "load_scratch_checkpoint", "save_scratch_checkpoint"]
 
@@ -45,14 +45,9 @@ def save_scratch_checkpoint(path, scene, *, u, state, tau: float, recorder, cont
 
 def load_scratch_checkpoint(path, scene, ndof: int) -> dict | None:
     """The checkpoint at ``path`` (``None`` if there is none), checked against ``scene`` and ``ndof``."""
-    path = Path(path)
-    if not path.exists():
+    saved = load_matching_checkpoint(path, fingerprint(scene, ndof), "scratch run (scene or mesh differ)")
+    if saved is None:
         return None
-    saved = load_checkpoint(path)
-    expected = fingerprint(scene, ndof)
-    if saved["meta"].get("fingerprint") != expected:
-        raise ValueError(f"resume: the checkpoint {path} belongs to another scratch run (scene or mesh differ: "
-                         f"{saved['meta'].get('fingerprint')} != {expected}); delete it or choose another output")
     arrays, control = saved["arrays"], saved["meta"]["control"]
     saved["u_loaded"] = arrays.pop("u_loaded", None)
     saved["continuation"] = None if control is None else {
