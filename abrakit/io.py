@@ -147,6 +147,16 @@ class CurveWriter:
         self._writer.writerow([jsonable(values[c]) for c in self.columns])
         self._file.flush()
 
+    def rewrite(self, rows) -> None:
+        """Start the file again with the header and exactly ``rows`` (a resumed run goes back to its checkpoint)."""
+        self._file.close()
+        self._file = open(self.path, "w", newline="")  # noqa: SIM115
+        self._writer = csv.writer(self._file)
+        self._writer.writerow(self.columns)
+        for row in rows:
+            self.write(**row)
+        self._file.flush()
+
     def close(self) -> None:
         self._file.close()
 
@@ -219,11 +229,12 @@ class VtuSeries:
     def restart(self, entries: list[tuple[float, str]]) -> None:
         """Go back to ``entries`` (a shorter series written earlier): the ``.vtu`` files of later steps are deleted
         and the ``.pvd`` index is rewritten, so a resumed run recomputes those steps without stale files."""
+        entries = [(float(t), str(name)) for t, name in entries]      # also the lists a JSON checkpoint holds
         keep = {name for _, name in entries}
         for path in self.directory.glob(f"{self.stem}_*.vtu"):
             if path.name not in keep:
                 path.unlink()
-        self.entries = list(entries)
+        self.entries = entries
         self._write_index()
 
     def _write_index(self) -> None:

@@ -397,11 +397,10 @@ def run_model_two(specimen, alpha: float = 0.05, *, material: ModelIIDamage | No
             setattr(book, name, value)
         book.u_prev, book.f_prev, book.state_prev = saved["u"], saved["arrays"]["f_int"], saved["state"]
         if vtu is not None:
-            vtu.restart([(float(t), str(name)) for t, name in meta["vtu"]])
+            vtu.restart(meta["vtu"])
         if meta["status"] != "running":            # a finished run: its result at once, nothing recomputed
             if writer is not None:
-                for row in book.rows:
-                    writer.write(**row)
+                writer.rewrite(book.rows)
                 writer.close()
             solve = SimpleNamespace(u=saved["u"], state=saved["state"], cutbacks=int(book.rows[-1]["cutbacks"]))
             return result(meta["status"], meta["message"], solve, out / RunWriter.CHECKPOINT)
@@ -409,8 +408,7 @@ def run_model_two(specimen, alpha: float = 0.05, *, material: ModelIIDamage | No
                         "f_int": saved["arrays"]["f_int"], "u_prev": saved["arrays"].get("u_prev"),
                         "control": meta["control"]}
     if writer is not None:
-        for row in book.rows:
-            writer.write(**row)
+        writer.rewrite(book.rows)
     status, message, checkpoint = "end", "", None
     try:
         book.clock = _time.perf_counter()

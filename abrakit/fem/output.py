@@ -143,13 +143,10 @@ class RunWriter:
     def restart(self, rows: list[dict], position: dict) -> None:
         """Continue the output of a run from a checkpoint: ``rows`` become ``curves.csv`` and the VTU series goes
         back to ``position`` (:meth:`position` when the checkpoint was written)."""
-        self.curves.close()
-        self.curves = CurveWriter(self.directory / "curves.csv", self.columns)
-        for row in rows:
-            self.curves.write(**row)
+        self.curves.rewrite(rows)
         self._count = int(position["count"])
         if self.vtu is not None:
-            self.vtu.restart([(float(t), str(name)) for t, name in position["vtu"]])
+            self.vtu.restart(position["vtu"])
 
     def checkpoint(self, u, state, load_factor: float, time: float, *, arrays=None, meta=None) -> Path:
         return save_checkpoint(self.checkpoint_path, u, state, load_factor, time, arrays=arrays,

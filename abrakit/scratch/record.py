@@ -47,8 +47,7 @@ class ScratchRecorder:
         self.budget: VolumeBudget | None = None
         self.t_start = time.perf_counter()
         out = Path(output) if output is not None else None
-        self._curves_path = out / "forces.csv" if out is not None else None
-        self.curves_file = CurveWriter(self._curves_path, CURVE_COLUMNS) if out is not None else None
+        self.curves_file = CurveWriter(out / "forces.csv", CURVE_COLUMNS) if out is not None else None
         self.vtu_every = vtu_every if out is not None else 0
         self.vtu = VtuSeries(out / "fields", stem="step") if self.vtu_every else None
         self._cells = meshio_cells(self.mesh) if self.vtu is not None else None
@@ -104,12 +103,9 @@ class ScratchRecorder:
         self.rows = [dict(row) for row in position["rows"]]
         self.budget = None if position["budget"] is None else VolumeBudget(**position["budget"])
         if self.curves_file is not None:
-            self.curves_file.close()
-            self.curves_file = CurveWriter(self._curves_path, CURVE_COLUMNS)
-            for row in self.rows:
-                self.curves_file.write(**row)
+            self.curves_file.rewrite(self.rows)
         if self.vtu is not None:
-            self.vtu.restart([(float(t), str(name)) for t, name in position["vtu"]])
+            self.vtu.restart(position["vtu"])
         self._last_fields = position["last_fields"]
         self.t_start = time.perf_counter() - (self.rows[-1]["wall_time"] if self.rows else 0.0)
 
