@@ -60,6 +60,7 @@ from pathlib import Path
 import numpy as np
 from numpy.typing import ArrayLike
 
+from ..fem.kinematics import element_mean
 from ..fem.solver import NewtonFailure, NewtonResult, Solver, StepContext, StepFailed
 from ..io import CurveWriter, write_json
 from ..materials.model_one import damage_function_update
@@ -69,10 +70,6 @@ from .laplacian import ElementLaplacian, element_laplacian
 SNAP_BACK = ("pass", "stop")
 DAMAGE_SCHEMES = ("seed", "coupled")
 
-
-def element_mean(values: np.ndarray, dx: np.ndarray) -> np.ndarray:
-    """Volume average over each element of a quadrature-point field, ``int_e v dV / V_e``, ``(nel,)``."""
-    return np.einsum("eq,eq->e", values, dx) / dx.sum(axis=1)
 
 
 def element_damage_function(state: dict) -> np.ndarray:

@@ -61,23 +61,18 @@ from pathlib import Path
 from types import SimpleNamespace
 
 import numpy as np
-from numpy.typing import ArrayLike
 
+from ..fem.kinematics import element_mean
 from ..io import CurveWriter, VtuSeries, write_json
 from ..materials import TABLE_7_2, ModelIIDamage
 from ..materials.model_two import damage_function, effective_damage_function
-from ..validation import check_positive, check_range, number_arguments
+from ..validation import check_positive, check_range
 
 CURVE_COLUMNS = ("step", "load_factor", "u", "F", "external_work", "rate_limit_work", "damage_increment",
                  "stored_energy", "plastic_dissipation", "damage_dissipation", "threshold_dissipation",
                  "dissipated_energy", "energy_error", "max_d", "min_f_bar", "damaged_area", "iterations",
                  "cutbacks", "seconds")
 
-
-@number_arguments
-def element_mean(values: ArrayLike, dx: ArrayLike) -> np.ndarray:
-    """Volume average over each element of a quadrature-point field ``(nel, nqp)``: ``int_e v dV / V_e``."""
-    return np.einsum("eq,eq->e", values, dx) / dx.sum(axis=1)
 
 
 def element_f_bar(state: dict, dx: np.ndarray) -> np.ndarray:

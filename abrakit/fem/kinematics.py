@@ -25,6 +25,9 @@ from typing import NamedTuple
 
 import numpy as np
 import skfem
+from numpy.typing import ArrayLike
+
+from ..validation import number_arguments
 
 SQRT1_2 = np.sqrt(0.5)
 
@@ -402,3 +405,10 @@ class FBarKinematics(TotalLagrangianKinematics):
         Gtg = st.Gtg
         K += c[:, None, None] * (outer_sum(r, Gtg, Gtg) - st.m[:, :, None] * st.m[:, None, :])
         return K
+
+
+@number_arguments
+def element_mean(values: ArrayLike, dx: ArrayLike) -> np.ndarray:
+    """Volume average over each element of a quadrature-point field ``(nel, nqp)``: ``int_e v dV / V_e``,
+    ``(nel,)`` (``dx``: the quadrature weights times the Jacobians, :attr:`Kinematics.dx`)."""
+    return np.einsum("eq,eq->e", values, dx) / np.sum(dx, axis=1)
