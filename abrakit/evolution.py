@@ -166,7 +166,8 @@ def elasto_viscoplastic(r1, r2) -> Dissipation:
     return Dissipation(r1=r1, r2=check_positive("r2", r2))
 
 
-def rate_dependent_update(lam_m, p, dt, dissipation: Dissipation):
+@number_arguments
+def rate_dependent_update(lam_m: ArrayLike, p: ArrayLike, dt: float, dissipation: Dissipation):
     """λ^{m+1} = λ^m + Δt/r2 · sgn(p) [|p| - r1]_+, Eq. (2.112) read with the switch |p| > r1, and Eq. (4.53).
 
     ``p`` [MPa] is the driving force at whichever time levels the scheme chooses (Eq. 4.53: p(ε^{m+1}, λ^m)).

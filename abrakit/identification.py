@@ -256,7 +256,9 @@ def _directions_and_weights(degree, directions, weights):
     return n, np.atleast_1d(w)
 
 
-def constraint_gradient(u, directions, weights, radius, variant: str = "published"):
+@number_arguments
+def constraint_gradient(u: ArrayLike, directions: ArrayLike, weights: ArrayLike, radius: ArrayLike,
+                        variant: str = "published"):
     """Macroscopic displacement gradient implied by contact displacements, Eq. (5.10).
 
     ``grad u^m = alpha / r <u (x) n>`` with ``<.>`` the weighted average over ``directions`` ``(m, 3)``;
@@ -348,8 +350,10 @@ def _kkt_matrix(n, w, kn, kt, rho_c, radius, alpha):
     return K.tocsc()
 
 
-def minimise_contact_energy(grad_u, kn, kt, rho_c, radius, variant: str = "published", degree: int = 6,
-                            directions=None, weights=None) -> ContactSolution:
+@number_arguments
+def minimise_contact_energy(grad_u: ArrayLike, kn: float, kt: float, rho_c: float, radius: float,
+                            variant: str = "published", degree: int = 6, directions=None,
+                            weights=None) -> ContactSolution:
     """Solve the constrained minimisation of Eq. (5.12) numerically over a set of contact directions.
 
     Unknowns are the contact displacements u(n_k) of every direction and the common rotation omega;
@@ -396,7 +400,8 @@ class NumericalElasticity(NamedTuple):
     anisotropy: float  #: |C - C_iso| / |C| in Mandel form; round-off for an exact sphere rule
 
 
-def isotropic_part(stiffness):
+@number_arguments
+def isotropic_part(stiffness: ArrayLike):
     """Closest isotropic (E, nu) to a 6x6 Voigt stiffness and the relative distance to it (Mandel norm).
 
     Bulk modulus 3K = (I(x)I/3) :: C and shear modulus 2 mu = (I^dev :: C)/5, the orthogonal projections.

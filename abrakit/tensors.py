@@ -72,29 +72,34 @@ def _from_vector(v, weights):
 # --- second-order tensors ---------------------------------------------------------------------------------
 
 
-def to_voigt(A, kind: str = "stress") -> np.ndarray:
+@number_arguments
+def to_voigt(A: ArrayLike, kind: str = "stress") -> np.ndarray:
     """Voigt vector of a symmetric tensor, Eq. (2.17). ``kind="strain"`` doubles the shears."""
     check_option("kind", kind, ("stress", "strain"))
     return _to_vector(_check_tensor("A", A), VECTOR_WEIGHTS[kind])
 
 
-def from_voigt(v, kind: str = "stress") -> np.ndarray:
+@number_arguments
+def from_voigt(v: ArrayLike, kind: str = "stress") -> np.ndarray:
     """Symmetric tensor from its Voigt vector (inverse of :func:`to_voigt`)."""
     check_option("kind", kind, ("stress", "strain"))
     return _from_vector(_check_vector("v", v), VECTOR_WEIGHTS[kind])
 
 
-def to_mandel(A) -> np.ndarray:
+@number_arguments
+def to_mandel(A: ArrayLike) -> np.ndarray:
     """Mandel (Kelvin) vector of a symmetric tensor: shears times sqrt(2); ``|A| = |to_mandel(A)|``."""
     return _to_vector(_check_tensor("A", A), VECTOR_WEIGHTS["mandel"])
 
 
-def from_mandel(v) -> np.ndarray:
+@number_arguments
+def from_mandel(v: ArrayLike) -> np.ndarray:
     """Symmetric tensor from its Mandel vector."""
     return _from_vector(_check_vector("v", v), VECTOR_WEIGHTS["mandel"])
 
 
-def mandel_rotation(Q) -> np.ndarray:
+@number_arguments
+def mandel_rotation(Q: ArrayLike) -> np.ndarray:
     """Mandel matrix ``R`` (..., 6, 6) of the change of axes ``A' = Q A Q^T`` (rows of ``Q`` are the new axes):
     ``to_mandel(Q A Q^T) = R @ to_mandel(A)``. ``R`` is orthogonal, so ``A = R^T A'`` and a stiffness turns
     into ``R C R^T``."""
@@ -104,12 +109,14 @@ def mandel_rotation(Q) -> np.ndarray:
     return np.swapaxes(to_mandel(turned), -1, -2)
 
 
-def trace(A) -> np.ndarray:
+@number_arguments
+def trace(A: ArrayLike) -> np.ndarray:
     """tr A, batched."""
     return np.trace(_check_tensor("A", A), axis1=-2, axis2=-1)
 
 
-def dev(A) -> np.ndarray:
+@number_arguments
+def dev(A: ArrayLike) -> np.ndarray:
     """Deviator ``dev A = A - tr(A)/3 I``."""
     A = _check_tensor("A", A)
     return A - trace(A)[..., None, None] / 3.0 * I2
@@ -168,7 +175,8 @@ def _matrix_weights(kind):
 _MATRIX_KINDS = ("stiffness", "compliance", "mandel")
 
 
-def to_voigt4(C, kind: str = "stiffness") -> np.ndarray:
+@number_arguments
+def to_voigt4(C: ArrayLike, kind: str = "stiffness") -> np.ndarray:
     """6x6 matrix of a fourth-order tensor with minor symmetries.
 
     ``kind="stiffness"``: ``to_voigt(C:eps, "stress") = M @ to_voigt(eps, "strain")``;
@@ -182,7 +190,8 @@ def to_voigt4(C, kind: str = "stiffness") -> np.ndarray:
     return M * rows[:, None] * cols[None, :]
 
 
-def from_voigt4(M, kind: str = "stiffness") -> np.ndarray:
+@number_arguments
+def from_voigt4(M: ArrayLike, kind: str = "stiffness") -> np.ndarray:
     """Fourth-order tensor (with minor symmetries) from its 6x6 matrix; inverse of :func:`to_voigt4`."""
     check_option("kind", kind, _MATRIX_KINDS)
     M = _check_vector("M", M, ndim=2)
@@ -191,7 +200,8 @@ def from_voigt4(M, kind: str = "stiffness") -> np.ndarray:
     return np.einsum("...ab,aij,bkl->...ijkl", M / (rows[:, None] * cols[None, :]), P, P)
 
 
-def to_mandel4(C) -> np.ndarray:
+@number_arguments
+def to_mandel4(C: ArrayLike) -> np.ndarray:
     """Mandel 6x6 matrix of a fourth-order tensor: ``to_mandel(C:A) = to_mandel4(C) @ to_mandel(A)``."""
     return to_voigt4(C, "mandel")
 
@@ -287,7 +297,8 @@ def sphere_average(f, degree: int = 8) -> np.ndarray:
     return np.tensordot(w, values, axes=(0, 0))
 
 
-def fourth_moment_contraction(sigma) -> np.ndarray:
+@number_arguments
+def fourth_moment_contraction(sigma: ArrayLike) -> np.ndarray:
     """Closed form of Eq. (5.18): ``<n n n n> : sigma = (tr(sigma) I + 2 sigma)/15`` for symmetric sigma."""
     sigma = _check_tensor("sigma", sigma)
     return (trace(sigma)[..., None, None] * I2 + 2.0 * sigma) / 15.0

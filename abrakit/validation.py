@@ -41,6 +41,9 @@ def check_range(name: str, value, low=None, high=None, *, low_open: bool = False
     ``low``/``high`` of ``None`` mean unbounded; ``*_open`` excludes the end point.
     """
     arr = np.asarray(check_finite(name, value))
+    for bound, given in (("low", low), ("high", high)):        # the interval itself: numbers or None
+        if given is not None and not (isinstance(given, int | float | np.number) and not np.isnan(given)):
+            raise TypeError(f"check_range for {name}: {bound} must be a number or None, got {given!r}")
     bad = np.zeros(arr.shape, dtype=bool)
     if low is not None:
         bad |= (arr <= low) if low_open else (arr < low)

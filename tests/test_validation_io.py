@@ -192,3 +192,18 @@ def test_number_arguments_checks_annotated_arguments_and_keeps_arrays():
                                 (np.nan, ValueError, "values must be a number, got nan")):
         with pytest.raises(error, match=message):
             doubled(bad)
+
+
+def test_check_range_refuses_an_interval_that_is_not_numbers_and_a_servo_a_bad_area():
+    from abrakit.dem.walls import Servo
+
+    for bad in (np.nan, "abc"):
+        with pytest.raises(TypeError, match="check_range for x: low must be a number or None"):
+            V.check_range("x", 1.0, bad)
+        with pytest.raises(TypeError, match="high must be a number or None"):
+            V.check_range("x", 1.0, 0.0, bad)
+    assert V.check_range("x", 1.0, None, np.inf) == 1.0
+    for area in (np.nan, -1.0, "abc", None):
+        with pytest.raises((TypeError, ValueError), match="area"):
+            Servo(wall=0, target_stress=1e4, area=area)
+    assert Servo(wall=0, target_stress=1e4, area=lambda walls: 1.0).current_area(None) == 1.0

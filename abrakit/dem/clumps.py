@@ -20,10 +20,11 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from abrakit.dem.integrate import local_damping
 from abrakit.dem.state import Particles
-from abrakit.validation import check_positive
+from abrakit.validation import check_positive, number_arguments
 
 __all__ = ["Clumps", "clump_particles", "dyad", "make_clumps", "peanut", "rotation_from_vector"]
 
@@ -45,7 +46,8 @@ def peanut(radius: float, spacing: float | None = None):
     return np.array([[-s, 0.0, 0.0], [0.0, 0.0, 0.0], [s, 0.0, 0.0]]), np.full(3, radius)
 
 
-def rotation_from_vector(phi):
+@number_arguments
+def rotation_from_vector(phi: ArrayLike):
     """Rotation matrices exp([φ]×) for rotation vectors φ (C, 3) (Rodrigues' formula)."""
     phi = np.atleast_2d(phi)
     angle = np.linalg.norm(phi, axis=1)

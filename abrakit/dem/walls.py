@@ -139,6 +139,8 @@ class Servo:
     def __post_init__(self):
         check_number_fields(self)
         check_finite("target_stress", self.target_stress)
+        if not callable(self.area):
+            check_positive("area", self.area)
         check_range("relaxation", self.relaxation, 0.0, 1.0, low_open=True)
         if np.isfinite(self.max_speed):
             check_positive("max_speed", self.max_speed)

@@ -201,6 +201,7 @@ def _bonded_sample(spec: BeamSpec, params, modulus, stiffness_ratio, local_dampi
     return sim
 
 
+@number_arguments
 def four_point_beam(spec: BeamSpec | None = None, params: BondParameters | None = None, *,
                     control: str = "displacement", modulus: float = MODULUS, stiffness_ratio: float = STIFFNESS_RATIO,
                     pad: float | None = None, local_damping: float = 0.7, safety: float = 0.8) -> Beam:

@@ -21,12 +21,13 @@ distribute and cache it (specimens come from the genesis cache).
 from __future__ import annotations
 
 import numpy as np
+from numpy.typing import ArrayLike
 from scipy import stats
 
 from abrakit import identification
 from abrakit.experiments.compression import SCHEMES, elastic_test, force_carrying_contacts, strength_test
 from abrakit.experiments.specimen import Material, SpecimenSpec, genesis
-from abrakit.validation import check_positive, check_range
+from abrakit.validation import check_positive, check_range, number_arguments
 
 __all__ = [
     "BOND_CASES",
@@ -220,7 +221,8 @@ def bond_strength_case(params: dict) -> dict:
 
 
 # ---------------------------------------------------------------------------------------------- envelopes
-def mohr_coulomb_fit(sigma3, sigma1, *, cohesionless: bool = False) -> dict:
+@number_arguments
+def mohr_coulomb_fit(sigma3: ArrayLike, sigma1: ArrayLike, *, cohesionless: bool = False) -> dict:
     """Least-squares line σ₁ = N_φ σ₃ + 2c√N_φ through peak states (compression positive) [Pa]:
     friction angle φ = asin((N_φ − 1)/(N_φ + 1)) [deg] and cohesion c [Pa] (Fig. 5.3, 5.4).
 

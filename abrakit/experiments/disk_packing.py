@@ -16,13 +16,14 @@ packing (gaps below a tolerance) then start from a nearly stress-free, jammed sk
 from __future__ import annotations
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from abrakit.dem.measure import relax
 from abrakit.dem.simulation import Simulation
 from abrakit.dem.state import Particles
 from abrakit.dem.walls import Walls
 from abrakit.experiments.specimen import random_placement
-from abrakit.validation import check_positive, check_range
+from abrakit.validation import check_positive, check_range, number_arguments
 
 __all__ = ["disk_packing", "fuller_passing", "fuller_radii", "wall_stress"]
 
@@ -34,7 +35,8 @@ def _check_grading(smallest, largest, exponent):
     return check_range("exponent", exponent, 0.0, 2.0, low_open=True, high_open=True)
 
 
-def fuller_passing(radius, smallest: float, largest: float, exponent: float = 0.5):
+@number_arguments
+def fuller_passing(radius: ArrayLike, smallest: float, largest: float, exponent: float = 0.5):
     """Area fraction of the grading finer than ``radius``: (r^q − r_min^q)/(r_max^q − r_min^q), clipped to [0, 1]."""
     q = _check_grading(smallest, largest, exponent)
     r = np.clip(np.asarray(radius, float), smallest, largest)

@@ -390,7 +390,8 @@ def grains(rng, spec: SpecimenSpec):
     return radius, rng.permutation(np.repeat(np.arange(3), counts))
 
 
-def bounding_radius(radius, shape):
+@number_arguments
+def bounding_radius(radius: ArrayLike, shape):
     """Radius of the sphere around a grain: R for a sphere, 1.5 a for a dyad, 2 a for a peanut."""
     a = np.where(shape == 1, CLUMP_MEMBER_RADIUS["dyad"], CLUMP_MEMBER_RADIUS["peanut"]) * radius
     return np.select([shape == 0, shape == 1], [radius, 1.5 * a], 2.0 * a)

@@ -250,7 +250,8 @@ class DirectSolver:
         raise LinearSolveError(f"{self.name} produced an inaccurate or non-finite solution (singular tangent?)")
 
 
-def rigid_body_modes(points: np.ndarray, component: np.ndarray) -> np.ndarray:
+@number_arguments
+def rigid_body_modes(points: ArrayLike, component: ArrayLike) -> np.ndarray:
     """Near-null space of elasticity: translations and infinitesimal rotations at the DOF locations.
 
     ``points`` is ``(dim, n)`` (DOF coordinates), ``component`` ``(n,)`` the displacement component of each DOF.

@@ -46,7 +46,8 @@ _PAIRS = np.array(T.VOIGT_PAIRS)                               # Mandel componen
 _WEIGHT = np.array([1.0, 1.0, 1.0, np.sqrt(2.0), np.sqrt(2.0), np.sqrt(2.0)])
 
 
-def log_divided_differences(lam: np.ndarray) -> np.ndarray:
+@number_arguments
+def log_divided_differences(lam: ArrayLike) -> np.ndarray:
     """Γ_ij = (ln λ_i − ln λ_j)/(λ_i − λ_j), with Γ_ii = 1/λ_i, for eigenvalues ``lam`` (..., 3) > 0."""
     li, lj = lam[..., :, None], lam[..., None, :]
     t = li / lj - 1.0

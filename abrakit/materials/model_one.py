@@ -36,7 +36,8 @@ TANGENTS = ("operator_split", "consistent")
 DAMAGE_ENERGIES = ("tension", "full")
 
 
-def damage_function(d):
+@number_arguments
+def damage_function(d: ArrayLike):
     """``f(d) = exp(-d)``, Eq. (6.11); ``f' = -f``."""
     return np.exp(-np.asarray(d, dtype=float))
 

@@ -50,18 +50,21 @@ TANGENTS = ("consistent", "seed")
 DAMAGE_ENERGIES = ("full", "tension")
 
 
-def damage_function(d):
+@number_arguments
+def damage_function(d: ArrayLike):
     """``f(d) = (1 - d)^2``, Eq. (6.12)."""
     return (1.0 - np.asarray(d, dtype=float)) ** 2
 
 
-def effective_damage_function(f_i):
+@number_arguments
+def effective_damage_function(f_i: ArrayLike):
     """``f_bar = n / sum_i 1/f_i`` over the last axis (the n sub-domains), Eq. (6.87)."""
     f_i = np.asarray(f_i, dtype=float)
     return f_i.shape[-1] / np.sum(1.0 / f_i, axis=-1)
 
 
-def erve_strains(eps, f_i):
+@number_arguments
+def erve_strains(eps: ArrayLike, f_i: ArrayLike):
     """Sub-domain strains of the emulated RVE, Eq. (6.88): ``eps_i = f_bar / f(d_i) eps``, shape ``(..., n, 6)``.
 
     ``f_i`` lies in (0, 1]: a sub-domain with f = 0 (d = 1) would carry an infinite strain; the model caps the

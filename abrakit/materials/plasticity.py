@@ -31,6 +31,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from abrakit.validation import number_arguments
+
 from ..validation import check_number_fields, check_option, check_poisson, check_positive
 from .base import DEVIATORIC, IsotropicElasticity, MaterialResponse, check_strain, deviator, outer
 
@@ -100,11 +102,13 @@ def plastic_step(eps, eps_p, alpha_p, shear_modulus, r_p: float | None, K_H: flo
     return PlasticStep(new_eps_p, new_alpha_p, plastic_increment, softening, active)
 
 
+@number_arguments
 def uniaxial_yield_stress(r_p: float) -> float:
     """Uniaxial yield stress ``sigma_0 = sqrt(3/2) r_p`` of the yield function (6.51) (MPa)."""
     return float(np.sqrt(1.5) * r_p)
 
 
+@number_arguments
 def uniaxial_hardening_modulus(K_H: float) -> float:
     """Slope of uniaxial stress against axial plastic strain, ``1.5 K_H`` (MPa), since ``alpha_p = |eps_p|``."""
     return 1.5 * K_H

@@ -25,8 +25,9 @@ from __future__ import annotations
 from typing import NamedTuple
 
 import numpy as np
+from numpy.typing import ArrayLike
 
-from abrakit.validation import check_finite, check_option, check_positive, check_shape
+from abrakit.validation import check_finite, check_option, check_positive, check_shape, number_arguments
 
 __all__ = [
     "GrooveMetrics",
@@ -281,7 +282,8 @@ class RemovedMaterial(NamedTuple):
     area: float | None
 
 
-def removed_material(volumes, damage, cap, *, half: bool, centres=None, z_range=None,
+@number_arguments
+def removed_material(volumes: ArrayLike, damage: ArrayLike, cap: float, *, half: bool, centres=None, z_range=None,
                      rtol: float = 1e-9) -> RemovedMaterial:
     """Elements whose damage reached the cap, their volume and the removed cross-section area.
 
