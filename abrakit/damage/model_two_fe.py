@@ -256,6 +256,7 @@ def run_model_two(specimen, alpha: float = 0.05, *, material: ModelIIDamage | No
     """
     from ..fem import StepFailed
     from ..fem.output import RunWriter, cell_fields, load_matching_checkpoint, meshio_cells, save_checkpoint
+    from ..fem.solver import continuation_arrays, continuation_of
 
     material = default_material(alpha) if material is None else material
     if stop_fraction is not None:
@@ -357,12 +358,10 @@ def run_model_two(specimen, alpha: float = 0.05, *, material: ModelIIDamage | No
 
     def save(res, status="running", message=""):
         """The checkpoint: the converged state, the energy account and rows, the VTU entries, the step control."""
-        continuation = res.continuation or {}
-        arrays = {"f_int": res.f_int}
-        if continuation.get("u_prev") is not None:
-            arrays["u_prev"] = continuation["u_prev"]
+        arrays = {"f_int": res.f_int} | continuation_arrays(res.continuation)     # f_int: also the account's
         account_ = {k: getattr(book, k) for k in ("rows", "external", "plastic", "released", "threshold", "peak")}
-        meta = {"fingerprint": fingerprint, "account": account_, "control": continuation.get("control"),
+        control = None if res.continuation is None else res.continuation["control"]
+        meta = {"fingerprint": fingerprint, "account": account_, "control": control,
                 "vtu": [] if vtu is None else [list(e) for e in vtu.entries], "status": status, "message": message}
         return save_checkpoint(out / RunWriter.CHECKPOINT, res.u, res.state, float(res.load_factors[-1]),
                                float(res.times[-1]), arrays=arrays, meta=meta)
@@ -399,9 +398,7 @@ def run_model_two(specimen, alpha: float = 0.05, *, material: ModelIIDamage | No
                 writer.close()
             solve = SimpleNamespace(u=saved["u"], state=saved["state"], cutbacks=int(book.rows[-1]["cutbacks"]))
             return result(meta["status"], meta["message"], solve, out / RunWriter.CHECKPOINT)
-        continuation = {"u": saved["u"], "state": saved["state"], "load_factor": saved["load_factor"],
-                        "f_int": saved["arrays"]["f_int"], "u_prev": saved["arrays"].get("u_prev"),
-                        "control": meta["control"]}
+        continuation = continuation_of(saved)
     if writer is not None:
         writer.rewrite(book.rows)
     status, message, checkpoint = "end", "", None

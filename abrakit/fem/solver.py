@@ -146,6 +146,26 @@ class SolveResult:
     ``delta_prev``)."""
 
 
+def continuation_arrays(continuation: dict | None) -> dict:
+    """The arrays of a :attr:`SolveResult.continuation` that a checkpoint keeps beside ``u`` and the state
+    (``f_int``, ``u_prev`` where given); its ``control`` goes into the checkpoint's meta. :func:`continuation_of`
+    reads them back."""
+    if continuation is None:
+        return {}
+    return {k: continuation[k] for k in ("f_int", "u_prev") if continuation[k] is not None}
+
+
+def continuation_of(saved: dict) -> dict | None:
+    """The :attr:`SolveResult.continuation` kept by a checkpoint (:func:`~abrakit.fem.load_checkpoint`'s dict, its
+    step control in ``meta["control"]``), or ``None`` if it keeps no step control (a phase end, a finished run)."""
+    control = saved["meta"].get("control")
+    if control is None:
+        return None
+    arrays = saved["arrays"]
+    return {"u": saved["u"], "state": saved["state"], "load_factor": saved["load_factor"],
+            "f_int": arrays.get("f_int"), "u_prev": arrays.get("u_prev"), "control": control}
+
+
 class StepFailed(RuntimeError):
     """The load step could not be completed with dlambda >= minimum. Holds the last converged state."""
 
@@ -462,9 +482,7 @@ class Solver:
         recorder = _Recorder(self, output, vtu_every, checkpoint_every=int(checkpoint_every))
         saved = recorder.resume() if resume else None
         if saved is not None:
-            continuation = {"u": saved["u"], "state": saved["state"], "load_factor": saved["load_factor"],
-                            "f_int": saved["arrays"].get("f_int"), "u_prev": saved["arrays"].get("u_prev"),
-                            "control": saved["meta"]["control"]}
+            continuation = continuation_of(saved)
         if continuation is not None:
             start, state, u = continuation["load_factor"], continuation["state"], continuation["u"]
         else:

@@ -16,6 +16,7 @@ from __future__ import annotations
 from pathlib import Path
 
 from abrakit.fem.output import RunWriter, load_matching_checkpoint, save_checkpoint
+from abrakit.fem.solver import continuation_arrays, continuation_of
 
 __all__ = ["CHECKPOINT", "load_scratch_checkpoint", "save_scratch_checkpoint"]
 
@@ -38,7 +39,7 @@ def save_scratch_checkpoint(path, scene, *, u, state, tau: float, recorder, cont
     meta = {"fingerprint": fingerprint(scene, u.size), "record": recorder.position(), "contact": contact_meta,
             "iterations": int(iterations), "cutbacks": int(cutbacks), "control": None}
     if continuation is not None:
-        arrays |= {f"solver_{k}": continuation[k] for k in ("f_int", "u_prev") if continuation[k] is not None}
+        arrays |= continuation_arrays(continuation)
         meta["control"] = continuation["control"]
     return save_checkpoint(path, u, state, float(tau), float(tau), arrays=arrays, meta=meta)
 
@@ -48,9 +49,6 @@ def load_scratch_checkpoint(path, scene, ndof: int) -> dict | None:
     saved = load_matching_checkpoint(path, fingerprint(scene, ndof), "scratch run (scene or mesh differ)")
     if saved is None:
         return None
-    arrays, control = saved["arrays"], saved["meta"]["control"]
-    saved["u_loaded"] = arrays.pop("u_loaded", None)
-    saved["continuation"] = None if control is None else {
-        "u": saved["u"], "state": saved["state"], "load_factor": saved["load_factor"], "control": control,
-        "f_int": arrays.pop("solver_f_int", None), "u_prev": arrays.pop("solver_u_prev", None)}
+    saved["u_loaded"] = saved["arrays"].pop("u_loaded", None)
+    saved["continuation"] = continuation_of(saved)
     return saved
