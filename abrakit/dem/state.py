@@ -154,6 +154,12 @@ def pair_keys(i, j, n: int) -> np.ndarray:
     return np.asarray(i, np.int64) * np.int64(n) + np.asarray(j, np.int64)
 
 
+def _last_result(name: str, doc: str) -> property:
+    """A result of the last force evaluation kept in ``ContactSet._results``: built on first read if deferred."""
+    return property(lambda self: self._result(name), lambda self, value: self._results.__setitem__(name, value),
+                    doc=doc)
+
+
 @dataclass
 class ContactSet:
     """``M`` candidate contacts (from the Verlet list) between body ``i`` and particle ``j``.
@@ -192,8 +198,6 @@ class ContactSet:
             value = self._results[name] = value()
         return value
 
-    def _set_result(self, name, value) -> None:
-        self._results[name] = value
 
     def __getstate__(self) -> dict:
         """Pickles and copies hold the results themselves, not the makers (closures cannot be pickled)."""
@@ -210,12 +214,9 @@ class ContactSet:
         self.__dict__.update(state)
         self._results = results
 
-    normal = property(lambda self: self._result("normal"), lambda self, v: self._set_result("normal", v),
-                      doc="(3, M) unit normal n from A to B, Eq. (4.1), of the last force evaluation")
-    fn = property(lambda self: self._result("fn"), lambda self, v: self._set_result("fn", v),
-                  doc="(M,) normal spring force [N] of the last force evaluation")
-    force = property(lambda self: self._result("force"), lambda self, v: self._set_result("force", v),
-                     doc="(3, M) total contact force on B [N] of the last force evaluation")
+    normal = _last_result("normal", "(3, M) unit normal n from A to B, Eq. (4.1), of the last force evaluation")
+    fn = _last_result("fn", "(M,) normal spring force [N] of the last force evaluation")
+    force = _last_result("force", "(3, M) total contact force on B [N] of the last force evaluation")
 
     @classmethod
     def empty_history(cls, i, j, n_keys: int) -> ContactSet:
