@@ -16,7 +16,7 @@ import math
 import numpy as np
 
 from ..compiled import HAVE_NUMBA, njit
-from .contact_laws import PLANE_TOL
+from .contact_laws import PLANE_TOL, RETURN_TOL
 
 __all__ = ["HAVE_NUMBA", "advance", "linear_contacts", "linear_wall_contacts"]
 
@@ -26,8 +26,12 @@ def _linear_law(U, n0, n1, n2, r0, r1, r2, f0, f1, f2, kn, kt, mu, beta_n, beta_
                 bond_normal, bond_shear):
     """The linear law with contact bonds at one contact, Eq. (4.6)–(4.10): overlap ``U``, normal n (A → B),
     relative velocity r of B's contact point, old tangential spring force f. Returns the normal spring force,
-    the new spring force (3), the total force on B (3), the dashpot force (3), the trial shear magnitude and the
-    flags touching, sliding, tension failure, shear failure."""
+    the new spring force (3), the total force on B (3), the dashpot force (3), the *square* of the trial shear
+    magnitude and the flags touching, sliding, tension failure, shear failure.
+
+    The turn into the contact plane is :func:`~abrakit.dem.contact_laws.turn_into_plane` (a second projection
+    only where the remainder is below ``RETURN_TOL`` of the length); lengths are compared squared, so a contact
+    that does not slide takes one square root (its distance, in the caller) and the turn one more."""
     vn = r0 * n0 + r1 * n1 + r2 * n2
     t0, t1, t2 = r0 - vn * n0, r1 - vn * n1, r2 - vn * n2
     # normal spring, Eq. (4.6); a contact bond carries tension
@@ -37,23 +41,30 @@ def _linear_law(U, n0, n1, n2, r0, r1, r2, f0, f1, f2, kn, kt, mu, beta_n, beta_
         fn = kn * (U + bond_gap)
         touching = True
     # tangential spring turned into the contact plane, then ΔF^t = −K^t V^t Δt, Eq. (4.7)
-    before = math.sqrt(f0 * f0 + f1 * f1 + f2 * f2)
-    for _ in range(2):                                               # twice, as turn_into_plane
-        fdn = f0 * n0 + f1 * n1 + f2 * n2
+    before = f0 * f0 + f1 * f1 + f2 * f2
+    fdn = f0 * n0 + f1 * n1 + f2 * n2
+    if fdn != 0.0:                                                    # already in the plane: nothing to turn
         f0, f1, f2 = f0 - fdn * n0, f1 - fdn * n1, f2 - fdn * n2
-    after = math.sqrt(f0 * f0 + f1 * f1 + f2 * f2)
-    scale = before / after if after > PLANE_TOL * before else 0.0    # as turn_into_plane
-    f0, f1, f2 = f0 * scale - kt * dt * t0, f1 * scale - kt * dt * t1, f2 * scale - kt * dt * t2
+        after = f0 * f0 + f1 * f1 + f2 * f2
+        if after < RETURN_TOL * RETURN_TOL * before:
+            fdn = f0 * n0 + f1 * n1 + f2 * n2
+            f0, f1, f2 = f0 - fdn * n0, f1 - fdn * n1, f2 - fdn * n2
+            after = f0 * f0 + f1 * f1 + f2 * f2
+        scale = math.sqrt(before / after) if after > PLANE_TOL * PLANE_TOL * before else 0.0
+        f0, f1, f2 = f0 * scale, f1 * scale, f2 * scale
+    step = kt * dt
+    f0, f1, f2 = f0 - step * t0, f1 - step * t1, f2 - step * t2
     if not touching:
         f0 = f1 = f2 = 0.0
     # Coulomb slip, Eq. (4.8), or contact-bond failure
     limit = mu * fn
-    magnitude = math.sqrt(f0 * f0 + f1 * f1 + f2 * f2)
-    sliding = magnitude > limit and not bonded
+    trial2 = f0 * f0 + f1 * f1 + f2 * f2
+    sliding = trial2 > limit * limit and not bonded                   # not bonded: fn >= 0, so limit >= 0
     tension = bonded and -fn >= bond_normal
-    shear = bonded and not tension and magnitude >= bond_shear
+    shear = bonded and not tension and trial2 >= bond_shear * bond_shear
     if sliding:
-        f0, f1, f2 = f0 * (limit / magnitude), f1 * (limit / magnitude), f2 * (limit / magnitude)
+        cap = limit / math.sqrt(trial2)
+        f0, f1, f2 = f0 * cap, f1 * cap, f2 * cap
     if tension or shear:
         f0 = f1 = f2 = 0.0
         fn = kn * U if U > 0.0 else 0.0
@@ -65,19 +76,22 @@ def _linear_law(U, n0, n1, n2, r0, r1, r2, f0, f1, f2, kn, kt, mu, beta_n, beta_
     g2 = -beta_t * t2 if dt_on else 0.0
     D0, D1, D2 = dn * n0 + g0, dn * n1 + g1, dn * n2 + g2
     F0, F1, F2 = fn * n0 + f0 + D0, fn * n1 + f1 + D1, fn * n2 + f2 + D2
-    return fn, f0, f1, f2, F0, F1, F2, D0, D1, D2, magnitude, touching, sliding, tension, shear
+    return fn, f0, f1, f2, F0, F1, F2, D0, D1, D2, trial2, touching, sliding, tension, shear
 
 
 @njit(cache=True, error_model="numpy")
 def linear_contacts(x, v, w, radius, i, j, kn, kt, mu, beta_n, beta_t, ft, bonded, bond_gap, bond_normal,
                     bond_shear, dt, force, torque, out_ft, out_overlap, out_normal, out_fn, out_force, out_dashpot,
-                    out_trial, out_flags, box):
+                    out_trial, out_flags, box, full):
     """Linear contact law on every contact, summed onto ``force``/``torque`` (both (N, 3), updated in place).
 
-    ``ft`` (3, M) is the tangential spring force before the step, ``out_ft`` after it. Per contact outputs:
-    overlap, normal (3, M), spring normal force, total force on B (3, M), dashpot force (3, M; pass a (3, 0)
-    array to skip it), trial shear force magnitude before the Coulomb cap, and ``out_flags`` (4, M): touching,
-    sliding, tension failure, shear failure. ``box`` (3,): the periodic cell's lengths (branch vectors to the
+    ``ft`` (3, M) is the tangential spring force before the step, ``out_ft`` after it; ``out_overlap`` (M,)
+    the overlap. ``out_flags`` (4, M), zeros on entry: touching, sliding, tension failure, shear failure. With
+    ``full`` the kernel also writes the normal (3, M), the spring normal force, the total force on B (3, M), the
+    dashpot force (3, M; pass a (3, 0) array to skip it), the trial shear force magnitude before the Coulomb cap,
+    and the flags touching and sliding; without it only the spring, the overlap and the bond failures, which is
+    what the next step needs (the caller rebuilds the rest from the positions when they are read, a quarter of
+    the kernel's time in a dense packing). ``box`` (3,): the periodic cell's lengths (branch vectors to the
     nearest image), zeros without a cell. Returns the number of bonds that failed.
     """
     keep_dashpot = out_dashpot.shape[1] > 0
@@ -92,18 +106,18 @@ def linear_contacts(x, v, w, radius, i, j, kn, kt, mu, beta_n, beta_t, ft, bonde
             d1 -= box[1] * np.round(d1 / box[1])
             d2 -= box[2] * np.round(d2 / box[2])
         dist = math.sqrt(d0 * d0 + d1 * d1 + d2 * d2)
-        n0, n1, n2 = d0 / dist, d1 / dist, d2 / dist
         U = (radius[a] + radius[b]) - dist
         out_overlap[c] = U
-        out_normal[0, c], out_normal[1, c], out_normal[2, c] = n0, n1, n2
         if U <= 0.0 and not bonded[c]:     # a gap: the law gives zero forces and resets the spring
             out_ft[0, c] = out_ft[1, c] = out_ft[2, c] = 0.0
-            out_fn[c] = out_trial[c] = 0.0
-            out_force[0, c] = out_force[1, c] = out_force[2, c] = 0.0
-            if keep_dashpot:
-                out_dashpot[0, c] = out_dashpot[1, c] = out_dashpot[2, c] = 0.0
-            out_flags[0, c] = out_flags[1, c] = out_flags[2, c] = out_flags[3, c] = False
+            if full:
+                out_normal[0, c], out_normal[1, c], out_normal[2, c] = d0 / dist, d1 / dist, d2 / dist
+                out_fn[c] = out_trial[c] = 0.0
+                out_force[0, c] = out_force[1, c] = out_force[2, c] = 0.0
+                if keep_dashpot:
+                    out_dashpot[0, c] = out_dashpot[1, c] = out_dashpot[2, c] = 0.0
             continue
+        n0, n1, n2 = d0 / dist, d1 / dist, d2 / dist
         arm_a, arm_b = radius[a] - 0.5 * U, radius[b] - 0.5 * U
         # velocity of B's contact point relative to A's: v_B − v_A − (r'_A ω_A + r'_B ω_B) × n
         s0 = arm_a * w[a, 0] + arm_b * w[b, 0]
@@ -112,7 +126,7 @@ def linear_contacts(x, v, w, radius, i, j, kn, kt, mu, beta_n, beta_t, ft, bonde
         r0 = v[b, 0] - v[a, 0] - (s1 * n2 - s2 * n1)
         r1 = v[b, 1] - v[a, 1] - (s2 * n0 - s0 * n2)
         r2 = v[b, 2] - v[a, 2] - (s0 * n1 - s1 * n0)
-        fn, f0, f1, f2, F0, F1, F2, D0, D1, D2, magnitude, touching, sliding, tension, shear = _linear_law(
+        fn, f0, f1, f2, F0, F1, F2, D0, D1, D2, trial2, touching, sliding, tension, shear = _linear_law(
             U, n0, n1, n2, r0, r1, r2, ft[0, c], ft[1, c], ft[2, c], kn[c], kt[c], mu[c], beta_n[c], beta_t[c], dt,
             bonded[c], bond_gap[c], bond_normal[c], bond_shear[c])
         out_ft[0, c], out_ft[1, c], out_ft[2, c] = f0, f1, f2
@@ -130,13 +144,17 @@ def linear_contacts(x, v, w, radius, i, j, kn, kt, mu, beta_n, beta_t, ft, bonde
         torque[b, 0] -= arm_b * l0
         torque[b, 1] -= arm_b * l1
         torque[b, 2] -= arm_b * l2
-        out_fn[c] = fn
-        out_trial[c] = magnitude
-        out_force[0, c], out_force[1, c], out_force[2, c] = F0, F1, F2
-        if keep_dashpot:
-            out_dashpot[0, c], out_dashpot[1, c], out_dashpot[2, c] = D0, D1, D2
-        out_flags[0, c], out_flags[1, c], out_flags[2, c], out_flags[3, c] = touching, sliding, tension, shear
-        failures += tension or shear
+        if tension or shear:
+            out_flags[2, c], out_flags[3, c] = tension, shear
+            failures += 1
+        if full:
+            out_normal[0, c], out_normal[1, c], out_normal[2, c] = n0, n1, n2
+            out_fn[c] = fn
+            out_trial[c] = math.sqrt(trial2)
+            out_force[0, c], out_force[1, c], out_force[2, c] = F0, F1, F2
+            if keep_dashpot:
+                out_dashpot[0, c], out_dashpot[1, c], out_dashpot[2, c] = D0, D1, D2
+            out_flags[0, c], out_flags[1, c] = touching, sliding
     return failures
 
 
@@ -158,7 +176,7 @@ def linear_wall_contacts(x, v, w, radius, k, j, normal, point, velocity, kn, kt,
         r0 = v[b, 0] - velocity[a, 0] - (s1 * n2 - s2 * n1)
         r1 = v[b, 1] - velocity[a, 1] - (s2 * n0 - s0 * n2)
         r2 = v[b, 2] - velocity[a, 2] - (s0 * n1 - s1 * n0)
-        fn, f0, f1, f2, F0, F1, F2, D0, D1, D2, magnitude, touching, sliding, _, _ = _linear_law(
+        fn, f0, f1, f2, F0, F1, F2, D0, D1, D2, trial2, touching, sliding, _, _ = _linear_law(
             U, n0, n1, n2, r0, r1, r2, ft[0, c], ft[1, c], ft[2, c], kn[c], kt[c], mu[c], beta_n[c], beta_t[c], dt,
             False, 0.0, 0.0, 0.0)
         out_ft[0, c], out_ft[1, c], out_ft[2, c] = f0, f1, f2
@@ -176,7 +194,7 @@ def linear_wall_contacts(x, v, w, radius, k, j, normal, point, velocity, kn, kt,
         torque[b, 2] -= arm * l2
         out_overlap[c] = U
         out_fn[c] = fn
-        out_trial[c] = magnitude
+        out_trial[c] = math.sqrt(trial2)
         out_force[0, c], out_force[1, c], out_force[2, c] = F0, F1, F2
         if keep_dashpot:
             out_dashpot[0, c], out_dashpot[1, c], out_dashpot[2, c] = D0, D1, D2

@@ -319,12 +319,14 @@ class Simulation:
         if self.kernel == "numba":
             r, overlap, n, failed = self._ball_ball_compiled(force, torque)
             live, prm = slice(None), c.prm
-            c.ft, c.fn, c.force, c.normal = r.ft, r.fn, r.force, n
+            c.ft = r.ft
+            if n is None:                     # the lean kernel: results built from this step's positions if read
+                self._defer_compiled_results(p.x.copy(), overlap, r)
+                n = c.normal if failed else None
+            else:
+                c.fn, c.force, c.normal = r.fn, r.force, n
         else:
-            d = gather(p.x, c.j) - gather(p.x, c.i)
-            if self.periodic is not None:
-                d = self.periodic.minimum_image(d, axis=0)
-            dist = np.sqrt(dot(d, d))                                 # Eq. (4.2)
+            d, dist = self._branches(p.x)                             # Eq. (4.2)
             overlap = self._radius_sum - dist                         # Eq. (4.3)
             live = np.flatnonzero((overlap > 0.0) | c.bonded)
             n = np.take(d, live, axis=1) / dist[live]                 # Eq. (4.1), on the live contacts
@@ -367,25 +369,54 @@ class Simulation:
         return r
 
     def _ball_ball_compiled(self, force, torque):
-        """The same contact step through the numba kernel (:mod:`abrakit.dem.kernels`)."""
+        """The same contact step through the numba kernel (:mod:`abrakit.dem.kernels`). Without dashpots and
+        without an energy account the kernel runs lean (normals, normal and total forces not written; ``n`` is
+        None) and :meth:`_defer_compiled_results` rebuilds them when read."""
         from abrakit.dem.kernels import linear_contacts
 
         p, c, prm = self.particles, self.contacts, self.contacts.prm
+        damped = self.law.damping_normal or self.law.damping_shear
+        full = self.track_energy or damped
         m = len(c)
-        overlap, fn, trial = np.empty(m), np.empty(m), np.empty(m)
-        ft, n, total = np.empty((3, m)), np.empty((3, m)), np.empty((3, m))
-        dashpot = np.empty((3, m if self.law.damping_normal or self.law.damping_shear else 0))
-        flags = np.empty((4, m), np.bool_)
+        k = m if full else 0
+        overlap, fn, trial = np.empty(m), np.empty(k), np.empty(k)
+        ft, n, total = np.empty((3, m)), np.empty((3, k)), np.empty((3, k))
+        dashpot = np.empty((3, m if damped else 0))
+        flags = np.zeros((4, m), np.bool_)
         failed = linear_contacts(p.x, p.v, p.w, p.radius, c.i, c.j, prm["kn"], prm["kt"], prm["mu"], prm["beta_n"],
                         prm["beta_t"], c.ft, c.bonded, c.bond_gap, c.bond_normal_strength, c.bond_shear_strength,
                         self.dt, force, torque, ft, overlap, n, fn, total, dashpot, trial, flags,
-                        np.zeros(3) if self.periodic is None else self.periodic.lengths)
-        r = self._compiled_forces(prm, total, fn, ft, flags, trial, dashpot)
-        return r, overlap, n, failed > 0
+                        np.zeros(3) if self.periodic is None else self.periodic.lengths, full)
+        r = self._compiled_forces(prm, total if full else None, fn if full else None, ft, flags, trial, dashpot)
+        return r, overlap, n if full else None, failed > 0
+
+    def _branches(self, x):
+        """Branch vectors d = x_B − x_A (3, M) of the candidate contacts (nearest images) and their lengths."""
+        c = self.contacts
+        d = gather(x, c.j) - gather(x, c.i)
+        if self.periodic is not None:
+            d = self.periodic.minimum_image(d, axis=0)
+        return d, np.sqrt(dot(d, d))
+
+    def _defer_compiled_results(self, x, overlap, r) -> None:
+        """Normals, normal and total forces of a lean kernel step (results ``r``), built when read from the step's
+        positions ``x``: n = d/|d| (Eq. 4.1), F^n = K^n U for U > 0 or K^n (U + gap) for a bond still intact
+        (Eq. 4.6), F = F^n n + F^t (no dashpots), as the kernel computes them."""
+        c, kn = self.contacts, self.contacts.prm["kn"]
+        bonded, gap = None, None
+        if c.bonded.any():
+            bonded, gap = c.bonded & ~(r.tension_failure | r.shear_failure), c.bond_gap.copy()
+
+        def fn():
+            spring = kn * np.maximum(overlap, 0.0)
+            return spring if bonded is None else np.where(bonded, kn * (overlap + gap), spring)
+
+        c.defer(normal=lambda: np.divide(*self._branches(x)), fn=fn, force=lambda: c.fn * c.normal + r.ft)
 
     def _compiled_forces(self, prm, total, fn, ft, flags, trial, dashpot) -> ContactForces:
-        """The kernels' outputs as the :class:`ContactForces` of the NumPy path (slip work as μF^n · slip)."""
-        m = len(fn)
+        """The kernels' outputs as the :class:`ContactForces` of the NumPy path (slip work as μF^n · slip;
+        ``total`` and ``fn`` are None after a lean kernel)."""
+        m = len(ft[0])
         slip = 0.0
         if self.track_energy and flags[1].any():
             limit = prm["mu"] * fn
