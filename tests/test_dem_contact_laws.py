@@ -14,6 +14,13 @@ def test_series_stiffness_eq_4_11():
     assert series_stiffness(1e6, 3e6) == pytest.approx(0.75e6)
     assert series_stiffness(np.inf, 5e5) == pytest.approx(5e5)          # rigid wall
     assert series_stiffness(0.0, 5e5) == 0.0
+    assert series_stiffness(0.0, 0.0) == 0.0 and series_stiffness(0.0, np.inf) == 0.0      # no spring: no force
+    assert series_stiffness(np.inf, np.inf) == np.inf                                       # rigid on rigid
+    np.testing.assert_array_equal(series_stiffness([0.0, 2e6, np.inf], [1e6, 2e6, 3e6]), [0.0, 1e6, 3e6])
+    assert series_stiffness(np.zeros(0), np.zeros(0)).shape == (0,)
+    for bad in (np.nan, -1.0):
+        with pytest.raises(ValueError, match="kb must lie in"):
+            series_stiffness([1e6, 1e6], [1e6, bad])
 
 
 def test_hertz_eq_4_13_is_textbook_hertz():

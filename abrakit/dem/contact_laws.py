@@ -96,11 +96,10 @@ def series_stiffness(ka, kb):
     Each stiffness lies in [0, inf] (0: no spring, inf: rigid); NaN or a negative value is refused."""
     ka, kb = np.asarray(ka, float), np.asarray(kb, float)
     for name, k in (("ka", ka), ("kb", kb)):
-        if np.any(np.isnan(k)) or np.any(k < 0.0):
+        if k.size and not k.min() >= 0.0:                       # one pass: a NaN fails the comparison too
             raise ValueError(f"{name} must lie in [0, inf] (a stiffness, N/m), got {k[np.isnan(k) | (k < 0)][:3]}")
-    with np.errstate(divide="ignore", invalid="ignore"):
-        k = 1.0 / (1.0 / ka + 1.0 / kb)
-    return np.where((ka == 0.0) | (kb == 0.0), 0.0, k)
+    with np.errstate(divide="ignore"):                        # 1/0 = inf: a side without spring gives 0
+        return 1.0 / (1.0 / ka + 1.0 / kb)
 
 
 def hertz_normal_coefficient(shear_modulus, poisson, r_tilde):
@@ -163,8 +162,8 @@ class Linear:
 
     def _finish(self, kn, kt, mu, mass):
         prm = {"kn": kn, "kt": kt, "mu": mu, "mass": mass}
-        prm["beta_n"] = 2.0 * self.damping_normal * np.sqrt(mass * kn)   # Eq. (4.10), constant here
-        prm["beta_t"] = 2.0 * self.damping_shear * np.sqrt(mass * kt)
+        for key, ratio, k in (("beta_n", self.damping_normal, kn), ("beta_t", self.damping_shear, kt)):
+            prm[key] = 2.0 * ratio * np.sqrt(mass * k) if ratio else np.zeros_like(k)  # Eq. (4.10), constant here
         return prm
 
     def normal_force(self, overlap, prm):
