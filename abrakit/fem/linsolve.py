@@ -2,7 +2,9 @@
 
 - :class:`DirectSolver`: a sparse direct factorisation that keeps its symbolic analysis (ordering) across Newton
   iterations and load steps and refactorises numerically only; backed by MKL PARDISO (optional, pypardiso) or
-  SuperLU. The default in 2D and for 3D meshes up to ``AUTO_AMG_MIN_DOFS`` free DOFs.
+  SuperLU, and by LAPACK's banded LU in a reverse Cuthill–McKee order where a cost model says it is faster (2D
+  meshes of a few hundred to a few thousand unknowns, where a sparse solver's per-call overhead dominates). The
+  default in 2D and for 3D meshes up to ``AUTO_AMG_MIN_DOFS`` free DOFs.
 - :class:`AMGSolver`: conjugate gradients preconditioned by smoothed-aggregation AMG (pyamg) with the rigid-body
   modes as near-null space; the AMG hierarchy is built once per load step and reused by the step's Newton
   iterations (the tangent changes little within a step), and rebuilt if CG stalls.
@@ -23,6 +25,8 @@ import scipy.linalg as sla
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 from numpy.typing import ArrayLike
+from scipy.linalg import lapack
+from scipy.sparse.csgraph import reverse_cuthill_mckee
 
 from ..validation import check_option, check_positive, check_range, number_arguments
 
@@ -105,6 +109,61 @@ class _DenseBackend:
         return sla.lu_solve(self._lu, rhs, check_finite=False)
 
 
+class _BandedBackend:
+    """LAPACK banded LU with partial pivoting (``dgbtrf``/``dgbtrs``) in a bandwidth-reducing DOF order: reverse
+    Cuthill–McKee or the natural order, whichever is narrower, fixed by the analysis with the positions of the
+    CSR entries in LAPACK's band storage. A 2D mesh of n unknowns has a band of about √n, so the factorisation
+    costs O(n²) against O(n³) dense and without a sparse solver's per-call overhead: the fastest back-end from a
+    hundred to a few thousand unknowns (``benchmarks/bench_linear_solvers.py``)."""
+
+    name = "banded"
+
+    def __init__(self):
+        self._lu = None
+
+    def analyse(self, K):
+        n = K.shape[0]
+        row = np.repeat(np.arange(n), np.diff(K.indptr))
+        col = K.indices
+        perm = (reverse_cuthill_mckee(sp.csr_matrix((np.ones(len(col)), col, K.indptr), shape=K.shape)) if n
+                else np.zeros(0, np.int64))                            # no unknown: nothing to order
+        inverse = np.empty(n, np.int64)
+        inverse[perm] = np.arange(n)
+        if len(col) and np.max(np.abs(inverse[row] - inverse[col])) >= np.max(np.abs(row - col)):
+            perm = None                                                # the natural order is as narrow
+        if perm is not None:
+            row, col = inverse[row], inverse[col]
+        self.lower = int(np.max(row - col, initial=0))
+        self.upper = int(np.max(col - row, initial=0))
+        self._shape = (2 * self.lower + self.upper + 1, n)             # dgbtrf's rows for the fill of pivoting
+        self._slot = (self.lower + self.upper + row - col) * n + col   # entry k of K.data in the band array
+        self._perm = perm
+        self._lu = None
+
+    @property
+    def bandwidth(self) -> int:
+        return max(self.lower, self.upper)
+
+    def factorise(self, K):
+        band = np.zeros(self._shape)
+        band.ravel()[self._slot] = K.data
+        lu, pivots, info = lapack.dgbtrf(band, self.lower, self.upper, overwrite_ab=True)
+        if info != 0:
+            raise LinearSolveError(f"banded LU failed (LAPACK dgbtrf info {info}: "
+                                   f"{'a zero pivot' if info > 0 else 'an invalid argument'})")
+        self._lu = (lu, pivots)
+
+    def solve(self, rhs):
+        lu, pivots = self._lu
+        p = self._perm
+        x, info = lapack.dgbtrs(lu, self.lower, self.upper, rhs if p is None else rhs[p], pivots)
+        if p is None:
+            return x
+        out = np.empty_like(x)
+        out[p] = x
+        return out
+
+
 class _PardisoBackend:
     """Intel MKL PARDISO through pypardiso (real unsymmetric, mtype 11): phase 11 (ordering and symbolic
     factorisation) once per pattern, phase 22 (numerical factorisation) per matrix, phase 33 per solve."""
@@ -138,9 +197,23 @@ class _PardisoBackend:
         return self._call(33, self._K, np.asfortranarray(rhs, dtype=float)).reshape(rhs.shape)
 
 
-BACKENDS = ("auto", "pardiso", "superlu", "dense")
-DENSE_MAX_DOFS = 250
-"""``backend="auto"`` factorises systems up to this size as dense matrices (measured crossover with PARDISO)."""
+BACKENDS = ("auto", "pardiso", "superlu", "dense", "banded")
+SPARSE_SECONDS = {"pardiso": (8e-5, 1.25e-6), "superlu": (1e-4, 2.2e-6)}
+"""Cost models a + b n of one sparse factorisation and solve (the whole ``DirectSolver.solve`` call, CPU seconds,
+one thread) for n unknowns of a 2D elasticity tangent, fitted to ``benchmarks/bench_linear_solvers.py`` and to
+plate-with-hole tangents: PARDISO 0.19 ms at 120 unknowns, 0.47 ms at 440, 2.0 ms at 1680; SuperLU 0.30, 0.84 and
+3.3 ms. 3D tangents cost more per unknown, so the model errs towards the sparse solver there."""
+
+BANDED_SECONDS = (4e-5, 2.2e-10)
+"""The banded LU's cost model, a + b n w² seconds for n unknowns of (half-)bandwidth w, from the same runs: 0.07 ms
+at n = 120, w = 23; 0.34 ms at n = 440, w = 43; 2.6 ms at n = 1680, w = 83; 26 ms at n = 6560, w = 163."""
+
+
+def banded_wins(n: int, bandwidth: int, sparse: str) -> bool:
+    """Whether the banded LU is expected to beat the sparse back-end ``sparse`` on n unknowns of this bandwidth
+    (the cost models :data:`BANDED_SECONDS` and :data:`SPARSE_SECONDS`)."""
+    (a, b), (c, d) = BANDED_SECONDS, SPARSE_SECONDS[sparse]
+    return a + b * n * bandwidth**2 <= c + d * n
 
 
 @functools.cache
@@ -176,8 +249,9 @@ class DirectSolver:
     at analysis time).
 
     backend : ``"pardiso"`` (MKL PARDISO via the optional pypardiso), ``"superlu"`` (scipy, always there),
-        ``"dense"`` (LAPACK LU), or ``"auto"`` (dense up to :data:`DENSE_MAX_DOFS` unknowns, chosen at the first
-        solve; above it PARDISO if it loads, else SuperLU). ``order``: a fill-reducing DOF order for SuperLU (e.g.
+        ``"dense"`` (LAPACK LU), ``"banded"`` (LAPACK banded LU in a bandwidth-reducing order), or ``"auto"``
+        (chosen at the first solve: banded where its cost model beats the sparse solver, :func:`banded_wins`;
+        else PARDISO if it loads, else SuperLU). ``order``: a fill-reducing DOF order for SuperLU (e.g.
         the scratch's geometric nested dissection); PARDISO orders by METIS itself.
 
     Counters: ``analyses``, ``factorisations``, ``solves`` and the seconds spent in each (``times``).
@@ -201,11 +275,17 @@ class DirectSolver:
     def _make(self, backend: str):
         if backend == "dense":
             return _DenseBackend()
+        if backend == "banded":
+            return _BandedBackend()
         return _PardisoBackend() if backend == "pardiso" else _SuperLUBackend(self._order)
 
-    def _choose(self, n: int) -> None:
-        """``"auto"``: dense LU up to :data:`DENSE_MAX_DOFS` unknowns, PARDISO above if it loads, else SuperLU."""
-        backend = "dense" if n <= DENSE_MAX_DOFS else ("pardiso" if pardiso_available() else "superlu")
+    def _choose(self, K) -> None:
+        """``"auto"``: the banded LU where its cost model beats the sparse back-end's (:func:`banded_wins`: small
+        and medium 2D meshes), else PARDISO if it loads, else SuperLU."""
+        sparse = "pardiso" if pardiso_available() else "superlu"
+        banded = _BandedBackend()
+        banded.analyse(K)
+        backend = "banded" if banded_wins(K.shape[0], banded.bandwidth, sparse) else sparse
         self.backend = self._make(backend)
         self.name = f"direct-{backend}"
 
@@ -222,11 +302,12 @@ class DirectSolver:
 
     def solve(self, K: sp.csr_matrix, rhs: np.ndarray, new_step: bool = True) -> np.ndarray:
         """x with K x = rhs; ``rhs`` ``(n,)`` or ``(n, k)`` (k right-hand sides, one factorisation)."""
-        K = sp.csr_matrix(K)
+        if not sp.isspmatrix_csr(K):
+            K = sp.csr_matrix(K)
         K.sort_indices()
         rhs = np.asarray(rhs, dtype=float)
         if self.backend is None:
-            self._choose(K.shape[0])
+            self._choose(K)
         if not np.any(rhs):             # x = 0, also for a tangent without stiffness (e.g. everything damaged)
             return np.zeros_like(rhs)
         same = (self._pattern is not None and np.array_equal(self._pattern[0], K.indptr)
@@ -322,14 +403,14 @@ class AMGSolver:
 
 @number_arguments
 def make_linear_solver(kind, dim: int, n_free: int, near_null_space: ArrayLike | None = None):
-    """Linear solver for ``kind`` in ("auto", "direct", "pardiso", "superlu", "dense", "amg") or a user
+    """Linear solver for ``kind`` in ("auto", "direct", "pardiso", "superlu", "dense", "banded", "amg") or a user
     object/callable.
 
     ``auto``: direct LU in 2D and for 3D problems up to ``AUTO_AMG_MIN_DOFS`` free DOFs, AMG-CG above.
     """
     if not isinstance(kind, str):
         return kind
-    check_option("linear_solver", kind, ("auto", "direct", "pardiso", "superlu", "dense", "amg"))
+    check_option("linear_solver", kind, ("auto", "direct", *BACKENDS[1:], "amg"))
     if kind == "auto":
         threshold = AUTO_AMG_MIN_DOFS_PARDISO if pardiso_available() else AUTO_AMG_MIN_DOFS
         kind = "amg" if dim == 3 and n_free > threshold else "direct"
