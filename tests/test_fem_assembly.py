@@ -162,3 +162,18 @@ def test_chunked_assembly_without_caches_is_identical(monkeypatch):
     chunked = Assembler(kin)
     assert chunked._B is None and not chunked._one_scatter and chunked._chunk < kin.nel
     assert np.allclose(chunked.tangent_data(C), cached.tangent_data(C), rtol=1e-13, atol=1e-13)
+
+
+@pytest.mark.parametrize("bbar", [False, True])
+@pytest.mark.parametrize("name", list(MESHES))
+def test_strain_and_forces_through_the_cached_b_equal_the_gradient_table(name, bbar):
+    """With B cached the assembler computes eps = B u_e and int B^T sigma dV as one product each; they equal the
+    kinematics' own sums over the gradient table (the path without cache) to round-off."""
+    kin = Kinematics.from_basis(vector_basis(MESHES[name]()), bbar=bbar)
+    asm = Assembler(kin)
+    assert asm._small_strain_B
+    rng = np.random.default_rng(7)
+    u, S = rng.standard_normal(kin.ndof), rng.standard_normal((kin.nel, kin.nqp, 6))
+    np.testing.assert_allclose(asm.strain(u), kin.strain(u), rtol=0, atol=1e-12 * np.abs(kin.strain(u)).max())
+    np.testing.assert_allclose(asm.element_forces(S), kin.element_forces(S), rtol=0,
+                               atol=1e-12 * np.abs(kin.element_forces(S)).max())

@@ -62,6 +62,12 @@ class Assembler:
         b_bytes = 8 * kinematics.nel * kinematics.nqp * len(self._comps) * nbf
         self._B = kinematics.B() if b_bytes <= CACHE_BYTES and not isinstance(kinematics, FBarKinematics) else None
         self._one_scatter = 8 * kinematics.nel * nbf * nbf <= CACHE_BYTES
+        # small strain with B cached: strain and internal force are one product with B each (a few numpy calls
+        # instead of a sum over the gradient table; what a small mesh's Newton iteration costs)
+        self._small_strain_B = self._B is not None and type(kinematics) is Kinematics
+        if self._small_strain_B:
+            nel, nqp = kinematics.nel, kinematics.nqp
+            self._Bt = np.ascontiguousarray(self._B.reshape(nel, nqp * len(self._comps), nbf).transpose(0, 2, 1))
 
     @property
     def ndof(self) -> int:
@@ -70,11 +76,25 @@ class Assembler:
     def _check(self, name, array, tail):
         return check_shape(name, array, (self.kin.nel, self.kin.nqp) + tail)
 
-    # ---- Eq. (4.37) --------------------------------------------------------------------------------------------
+    # ---- Eq. (4.29) and (4.37) ---------------------------------------------------------------------------------
+    def strain(self, u: np.ndarray) -> np.ndarray:
+        """The kinematics' strain measure at every quadrature point (:meth:`Kinematics.strain`); small strain
+        eps = B u_e (Eq. 4.29) as one product with the cached B."""
+        if not self._small_strain_B:
+            return self.kin.strain(u)
+        u_e = np.asarray(u, dtype=float)[self.kin.element_dofs]
+        active = np.matmul(self._B, u_e[:, None, :, None])[..., 0]                 # (e, q, components)
+        eps = np.zeros(active.shape[:2] + (6,))
+        eps[..., self._comps] = active
+        return eps
+
     def element_forces(self, stress: np.ndarray, u: np.ndarray | None = None) -> np.ndarray:
         """Element internal forces int_e B^T sigma dV, ``(nel, nbf)`` (``u``: for kinematics whose B depends on
         the displacement, F-bar)."""
         stress = self._check("stress", stress, (self.kin.measure_size,))
+        if self._small_strain_B:
+            weighted = (stress[..., self._comps] * self.kin.dx[..., None]).reshape(self.kin.nel, -1, 1)
+            return np.matmul(self._Bt, weighted)[..., 0]
         if isinstance(self.kin, FBarKinematics):
             return self.kin.element_forces(stress, u)
         return self.kin.element_forces(stress)

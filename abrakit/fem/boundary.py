@@ -141,11 +141,16 @@ class Constraints:
     def condense(self, K: sp.csr_matrix, same_pattern: bool = True) -> sp.csr_matrix:
         """K_II. With ``same_pattern`` the precomputed index arrays are used (no sparse slicing)."""
         if same_pattern and self._pattern is not None:
-            keep, indices, indptr, _ = self._pattern
-            n = self.free.size
-            return sp.csr_matrix((K.data[keep], indices, indptr), shape=(n, n), copy=False)
+            return self.condense_values(K.data)
         K = sp.csr_matrix(K)
         return K[self.free][:, self.free].tocsr()
+
+    def condense_values(self, data: np.ndarray) -> sp.csr_matrix:
+        """K_II from the values ``data`` of a matrix in the pattern given to :meth:`condense_pattern` (the global
+        matrix itself need not be built)."""
+        keep, indices, indptr, _ = self._pattern
+        n = self.free.size
+        return sp.csr_matrix((data[keep], indices, indptr), shape=(n, n), copy=False)
 
     # ---- reactions --------------------------------------------------------------------------------------------
     @staticmethod

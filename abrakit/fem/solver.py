@@ -336,7 +336,7 @@ class Solver:
         Returns ``(response, R, f_int, F_ref, K_extra_list)``; ``F_ref`` is the largest nodal force (N).
         """
         kwargs = self.loading(ctx) if self.loading is not None else {}
-        eps = self.kin.strain(u)
+        eps = self.assembler.strain(u)
         with np.errstate(all="ignore"):
             response = self.material.update(state_old, eps, ctx.dt, **kwargs)
             f_int = self.assembler.internal_force(response.stress, u)
@@ -360,25 +360,29 @@ class Solver:
                     u: np.ndarray | None = None) -> np.ndarray:
         """du_I from K_II du_I = −R_I, or with ``lift`` (the prescribed increment Δu_D, zero on free DOFs) from
         K_II du_I = −R_I − K_ID Δu_D: the Dirichlet increment entering through the linear system."""
-        K, K_II = self.tangent(response, extra_K, u)
+        K, K_II = self.tangent(response, extra_K, u, full=lift is not None)
         if lift is not None:
             residual = residual + K @ lift
         return self.solve_linear(K_II, -residual[self.constraints.free], new_step)
 
-    def tangent(self, response, extra_K, u: np.ndarray | None = None) -> tuple[sp.csr_matrix, sp.csr_matrix]:
-        """The global tangent K of Eq. (4.40) with the hook terms, and its free block K_II (diagonal floored)."""
+    def tangent(self, response, extra_K, u: np.ndarray | None = None,
+                full: bool = True) -> tuple[sp.csr_matrix | None, sp.csr_matrix]:
+        """The global tangent K of Eq. (4.40) with the hook terms, and its free block K_II (diagonal floored).
+
+        ``full=False``: K itself is not built (None) where K_II can be taken from the values directly, as a
+        Newton correction without a prescribed increment needs only K_II."""
         cons = self.constraints
         data = self.assembler.tangent_data(response.tangent, u, response.stress)
         # extra terms inside the mesh's pattern (contact blocks on its nodes) keep the pattern, and with it the
         # linear solver's symbolic analysis; others fall back to a general sparse sum
         outside = [K for K in extra_K if not self.assembler.add_into(data, K)]
-        K = self.assembler.matrix(data)
         if outside:
-            K = sp.csr_matrix(K + sum(outside))
+            K = sp.csr_matrix(self.assembler.matrix(data) + sum(outside))
             K_II = cons.condense(K, same_pattern=False)
             diag_pos = None
         else:
-            K_II = cons.condense(K)
+            K = self.assembler.matrix(data) if full else None
+            K_II = cons.condense_values(data)
             diag_pos = cons.diagonal_positions
         if not np.all(np.isfinite(K_II.data)):
             raise LinearSolveError("non-finite tangent")
@@ -388,8 +392,7 @@ class Solver:
             if diag_pos is None:
                 d = K_II.diagonal()
                 K_II = K_II + sp.diags(np.where(np.abs(d) < floor, floor, 0.0))
-            else:
-                K_II = K_II.copy()
+            else:                                  # K_II's values are a copy of K's (condense gathers them)
                 d = K_II.data[diag_pos]
                 K_II.data[diag_pos] = np.where(np.abs(d) < floor, floor, d)
         return K, K_II

@@ -58,7 +58,7 @@ class Material(Protocol):
 
 def deviator(v: np.ndarray) -> np.ndarray:
     """``dev A = A - tr(A)/3 I`` of a Mandel vector."""
-    return v - v[..., :3].mean(axis=-1, keepdims=True) * IDENTITY
+    return v - v[..., :3].sum(axis=-1, keepdims=True) / 3.0 * IDENTITY
 
 
 def outer(a: np.ndarray, b: np.ndarray) -> np.ndarray:

@@ -62,25 +62,37 @@ def plastic_step(eps, eps_p, alpha_p, shear_modulus, r_p: float | None, K_H: flo
     frozen at the old step, as both damage models do (operator split). ``integration``: ``"explicit"``
     (seed, 6.59/6.61) or ``"implicit"`` (radial return). ``r_p=None`` means no plasticity (elastic step).
     """
-    eps = check_strain(eps)
+    return _return_map(check_strain(eps), eps_p, alpha_p, shear_modulus, r_p, K_H, integration)
+
+
+def _batch_copy(value, shape) -> np.ndarray:
+    """A float copy of ``value`` with ``shape`` (broadcast only where it is not already of that shape)."""
+    value = np.asarray(value, dtype=float)
+    return value.copy() if value.shape == shape else np.array(np.broadcast_to(value, shape))
+
+
+def _return_map(eps, eps_p, alpha_p, shear_modulus, r_p, K_H, integration) -> PlasticStep:
+    """:func:`plastic_step` for a checked strain ``eps``."""
     batch = np.broadcast_shapes(np.shape(eps)[:-1], np.shape(alpha_p), np.shape(shear_modulus))
-    new_eps_p = np.array(np.broadcast_to(eps_p, (*batch, 6)), dtype=float)
-    new_alpha_p = np.array(np.broadcast_to(alpha_p, batch), dtype=float)
+    new_eps_p = _batch_copy(eps_p, (*batch, 6))
+    new_alpha_p = _batch_copy(alpha_p, batch)
     plastic_increment = np.zeros(batch)
     softening = np.zeros((*batch, 6, 6))
     if r_p is None:
         return PlasticStep(new_eps_p, new_alpha_p, plastic_increment, softening, np.zeros(batch, bool))
-    two_G = np.broadcast_to(2.0 * np.asarray(shear_modulus, dtype=float), batch)
-    s_trial = two_G[..., None] * deviator(eps - new_eps_p)  # dev f E : (eps^{m+1} - eps_p^m)
-    q = np.linalg.norm(s_trial, axis=-1)
+    two_G = 2.0 * np.asarray(shear_modulus, dtype=float)
+    s_trial = two_G[..., None] * deviator(eps - new_eps_p)   # dev f E : (eps^{m+1} - eps_p^m)
+    q = np.sqrt(np.einsum("...i,...i->...", s_trial, s_trial))
     yield_stress = r_p + K_H * new_alpha_p
     active = q > yield_stress  # Phi_p > 0, Eq. (6.60)
     if not np.any(active):
         return PlasticStep(new_eps_p, new_alpha_p, plastic_increment, softening, active)
+    two_G = np.broadcast_to(two_G, batch)[active]
     # only the plastic points are worked on (plastic zones are usually small)
-    s_trial, q, y, two_G = s_trial[active], q[active], yield_stress[active], two_G[active]
+    s_trial, q, y = s_trial[active], q[active], yield_stress[active]
     normal = s_trial / q[:, None]
-    nn = outer(normal, normal)
+    # the softening is a n (x) n + b P_dev with per-point a, b (four (n, 6, 6) temporaries fewer than its factored
+    # forms below)
     if integration == "explicit":
         denominator = two_G * q + K_H * y
         d_rho = (q - y) / denominator  # Eq. (6.61), linear in d_rho
@@ -88,17 +100,17 @@ def plastic_step(eps, eps_p, alpha_p, shear_modulus, r_p: float | None, K_H: flo
         new_alpha_p[active] += d_rho * y  # Eq. (6.59)
         plastic_increment[active] = d_rho * q
         d_rho_dq = y * (two_G + K_H) / denominator**2
-        softening[active] = (two_G**2)[:, None, None] * (
-            d_rho[:, None, None] * DEVIATORIC + (q * d_rho_dq)[:, None, None] * nn
-        )
+        # (2G)^2 (d_rho P_dev + q d_rho/dq n (x) n)
+        a, b = two_G**2 * q * d_rho_dq, two_G**2 * d_rho
     else:
         d_gamma = (q - y) / (two_G + K_H)  # radial return: q - 2G dg = r_p + K_H (alpha_p + dg)
         new_eps_p[active] += d_gamma[:, None] * normal
         new_alpha_p[active] += d_gamma
         plastic_increment[active] = d_gamma
-        softening[active] = (two_G**2)[:, None, None] * (
-            (1.0 / (two_G + K_H))[:, None, None] * nn + (d_gamma / q)[:, None, None] * (DEVIATORIC - nn)
-        )
+        # (2G)^2 (n (x) n / (2G + K_H) + dg/q (P_dev - n (x) n))
+        b = two_G**2 * d_gamma / q
+        a = two_G**2 / (two_G + K_H) - b
+    softening[active] = a[:, None, None] * outer(normal, normal) + b[:, None, None] * DEVIATORIC
     return PlasticStep(new_eps_p, new_alpha_p, plastic_increment, softening, active)
 
 
@@ -149,7 +161,7 @@ class VonMisesPlasticity(IsotropicElasticity):
     def update(self, state, eps, dt: float = 1.0, **loading) -> MaterialResponse:
         """Stress ``E : (eps - eps_p^{m+1})`` (6.3) after the return map, algorithmic tangent, new state."""
         eps = check_strain(eps)
-        step = plastic_step(eps, state["eps_p"], state["alpha_p"], self.mu, self.r_p, self.K_H, self.integration)
+        step = _return_map(eps, state["eps_p"], state["alpha_p"], self.mu, self.r_p, self.K_H, self.integration)
         stress = (eps - step.eps_p) @ self.stiffness
         new_state = {
             "eps": eps.copy(),
