@@ -158,3 +158,26 @@ def test_work_equals_stored_energy_plus_dissipation_as_steps_shrink():
         final = {key: value[-1] for key, value in result.internal.items()}
         gaps.append(abs(work - material.stored_energy(final) - material.dissipation(final)) / work)
     assert gaps[1] < gaps[0] and gaps[1] < 2e-3, gaps
+
+
+@pytest.mark.parametrize("integration", ["explicit", "implicit"])
+def test_compiled_update_equals_the_numpy_return_map(integration):
+    """The numba loop of ``VonMisesPlasticity.update`` (the default where numba is installed) gives the vectorised
+    return map's stress, tangent and state to round-off, at elastic and plastic points of one batch, from a state
+    with plastic strain and hardening."""
+    from abrakit.compiled import HAVE_NUMBA
+
+    if not HAVE_NUMBA:
+        pytest.skip("numba (extra 'fast') not installed")
+    m = VonMisesPlasticity(200000.0, 0.3, 200.0, 2000.0, integration=integration)
+    rng = np.random.default_rng(4)
+    state = m.initial_state((40, 4))
+    state["eps_p"] = deviator(rng.standard_normal((40, 4, 6)) * 1e-3)
+    state["alpha_p"] = rng.random((40, 4)) * 1e-3
+    state["dissipation"] = rng.random((40, 4))
+    eps = state["eps_p"] + rng.standard_normal((40, 4, 6)) * 5e-4
+    a, b = m.update(state, eps, compiled=False), m.update(state, eps, compiled=True)
+    plastic = a.state["alpha_p"] > state["alpha_p"]
+    assert 0.2 < plastic.mean() < 0.8
+    for x, y in ((a.stress, b.stress), (a.tangent, b.tangent), *((a.state[k], b.state[k]) for k in a.state)):
+        np.testing.assert_allclose(y, x, rtol=0, atol=1e-13 * np.abs(x).max())

@@ -31,9 +31,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from abrakit.validation import number_arguments
-
-from ..validation import check_number_fields, check_option, check_poisson, check_positive
+from ..compiled import HAVE_NUMBA, njit
+from ..validation import check_number_fields, check_option, check_poisson, check_positive, number_arguments
 from .base import DEVIATORIC, IsotropicElasticity, MaterialResponse, check_strain, deviator, outer
 
 INTEGRATIONS = ("explicit", "implicit")
@@ -114,6 +113,66 @@ def _return_map(eps, eps_p, alpha_p, shear_modulus, r_p, K_H, integration) -> Pl
     return PlasticStep(new_eps_p, new_alpha_p, plastic_increment, softening, active)
 
 
+def _flat(value, batch, tail) -> np.ndarray:
+    """``value`` as a contiguous float array of shape (points, *tail) for the batch ``batch``."""
+    shape = (*batch, *tail)
+    if not (isinstance(value, np.ndarray) and value.shape == shape and value.dtype == float):
+        value = np.broadcast_to(np.asarray(value, dtype=float), shape)
+    return np.ascontiguousarray(value).reshape(-1, *tail)
+
+
+@njit(cache=True)
+def _update_compiled(eps, eps_p, alpha_p, dissipation, stiffness, two_G, r_p, K_H, explicit, out_stress,
+                     out_tangent, out_eps_p, out_alpha_p, out_dissipation):  # pragma: no cover - compiled
+    """:meth:`VonMisesPlasticity.update` one point at a time (numba): the return map of :func:`plastic_step`,
+    Eq. (6.59)–(6.61) or the radial return, with the same formulas, the stress E : (eps − eps_p) and the tangent
+    E − a n (x) n − b P_dev, for ``m`` points (flattened batch) into the ``out_`` arrays."""
+    for k in range(eps.shape[0]):
+        d = eps[k] - eps_p[k]
+        mean = (d[0] + d[1] + d[2]) / 3.0
+        s = np.empty(6)
+        q2 = 0.0
+        for i in range(6):
+            s[i] = two_G * (d[i] - mean if i < 3 else d[i])
+            q2 += s[i] * s[i]
+        q = np.sqrt(q2)
+        y = r_p + K_H * alpha_p[k]
+        out_eps_p[k] = eps_p[k]
+        out_alpha_p[k] = alpha_p[k]
+        out_tangent[k] = stiffness
+        increment = 0.0
+        if q > y:
+            if explicit:
+                denominator = two_G * q + K_H * y
+                d_rho = (q - y) / denominator
+                for i in range(6):
+                    out_eps_p[k, i] += d_rho * s[i]
+                out_alpha_p[k] += d_rho * y
+                increment = d_rho * q
+                a = two_G * two_G * q * (y * (two_G + K_H) / denominator**2)
+                b = two_G * two_G * d_rho
+            else:
+                d_gamma = (q - y) / (two_G + K_H)
+                for i in range(6):
+                    out_eps_p[k, i] += d_gamma * (s[i] / q)
+                out_alpha_p[k] += d_gamma
+                increment = d_gamma
+                b = two_G * two_G * d_gamma / q
+                a = two_G * two_G / (two_G + K_H) - b
+            for i in range(6):
+                for j in range(6):
+                    out_tangent[k, i, j] -= a * (s[i] / q) * (s[j] / q) + b * _DEVIATORIC[i, j]
+        out_dissipation[k] = dissipation[k] + r_p * increment
+        for j in range(6):
+            total = 0.0
+            for i in range(6):
+                total += (eps[k, i] - out_eps_p[k, i]) * stiffness[i, j]
+            out_stress[k, j] = total
+
+
+_DEVIATORIC = np.ascontiguousarray(DEVIATORIC)
+
+
 @number_arguments
 def uniaxial_yield_stress(r_p: float) -> float:
     """Uniaxial yield stress ``sigma_0 = sqrt(3/2) r_p`` of the yield function (6.51) (MPa)."""
@@ -158,9 +217,15 @@ class VonMisesPlasticity(IsotropicElasticity):
             "dissipation": np.zeros(shape),
         }
 
-    def update(self, state, eps, dt: float = 1.0, **loading) -> MaterialResponse:
-        """Stress ``E : (eps - eps_p^{m+1})`` (6.3) after the return map, algorithmic tangent, new state."""
+    def update(self, state, eps, dt: float = 1.0, compiled: bool | None = None, **loading) -> MaterialResponse:
+        """Stress ``E : (eps - eps_p^{m+1})`` (6.3) after the return map, algorithmic tangent, new state.
+
+        ``compiled`` (default: where numba is installed) runs :func:`_update_compiled`, one loop over the points
+        without temporaries (the return map is most of a small mesh's Newton iteration); ``False`` the vectorised
+        NumPy :func:`plastic_step`. Both give the same numbers to round-off (tested)."""
         eps = check_strain(eps)
+        if HAVE_NUMBA if compiled is None else compiled:
+            return self._update_compiled(state, eps)
         step = _return_map(eps, state["eps_p"], state["alpha_p"], self.mu, self.r_p, self.K_H, self.integration)
         stress = (eps - step.eps_p) @ self.stiffness
         new_state = {
@@ -170,6 +235,18 @@ class VonMisesPlasticity(IsotropicElasticity):
             "dissipation": state["dissipation"] + self.r_p * step.plastic_increment,
         }
         return MaterialResponse(stress, self.stiffness - step.softening, new_state)
+
+    def _update_compiled(self, state, eps) -> MaterialResponse:
+        batch = eps.shape[:-1]
+        m = int(np.prod(batch))
+        flat = [_flat(state[k], batch, tail) for k, tail in (("eps_p", (6,)), ("alpha_p", ()), ("dissipation", ()))]
+        stress, tangent = np.empty((m, 6)), np.empty((m, 6, 6))
+        eps_p, alpha_p, dissipation = np.empty((m, 6)), np.empty(m), np.empty(m)
+        _update_compiled(_flat(eps, batch, (6,)), *flat, self.stiffness, 2.0 * self.mu, self.r_p,
+                         self.K_H, self.integration == "explicit", stress, tangent, eps_p, alpha_p, dissipation)
+        new_state = {"eps": eps.copy(), "eps_p": eps_p.reshape(*batch, 6), "alpha_p": alpha_p.reshape(batch),
+                     "dissipation": dissipation.reshape(batch)}
+        return MaterialResponse(stress.reshape(*batch, 6), tangent.reshape(*batch, 6, 6), new_state)
 
     def stored_energy(self, state) -> np.ndarray:
         """``Psi = 1/2 (eps - eps_p) : E : (eps - eps_p) + 1/2 K_H alpha_p^2``, Eq. (6.2) (MPa)."""
