@@ -30,9 +30,18 @@ def check_finite(name: str, value):
         arr = np.asarray(value, dtype=float)
     except (TypeError, ValueError) as exc:
         raise TypeError(f"{name} must be a real number or array of real numbers, got {value!r}") from exc
-    if not np.all(np.isfinite(arr)):
+    if not all_finite(arr):
         raise ValueError(f"{name} must be finite, got {value!r}")
     return float(arr) if arr.ndim == 0 else arr
+
+
+def all_finite(arr: np.ndarray) -> bool:
+    """Whether every entry is finite: a finite sum proves it in one reduction (a NaN or inf entry makes the sum
+    NaN or inf); only a non-finite sum, which overflow of large finite entries can also give, is checked entry by
+    entry."""
+    with np.errstate(over="ignore", invalid="ignore"):
+        total = arr.sum()
+    return bool(np.isfinite(total)) or bool(np.all(np.isfinite(arr)))
 
 
 def check_range(name: str, value, low=None, high=None, *, low_open: bool = False, high_open: bool = False):

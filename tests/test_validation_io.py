@@ -207,3 +207,19 @@ def test_check_range_refuses_an_interval_that_is_not_numbers_and_a_servo_a_bad_a
         with pytest.raises((TypeError, ValueError), match="area"):
             Servo(wall=0, target_stress=1e4, area=area)
     assert Servo(wall=0, target_stress=1e4, area=lambda walls: 1.0).current_area(None) == 1.0
+
+
+def test_all_finite_is_exact_also_where_the_sum_overflows():
+    """``all_finite`` takes the one-reduction shortcut of a finite sum, and checks entry by entry only when the sum
+    is not finite: large finite entries whose sum overflows are still finite, a NaN or an inf anywhere is not."""
+    from abrakit.validation import all_finite
+
+    big = np.full(4, 1e308)
+    with np.errstate(over="ignore"):
+        assert all_finite(big) and not np.isfinite(big.sum())
+    assert all_finite(np.zeros(0)) and all_finite(np.ones((3, 2)))
+    for bad in (np.nan, np.inf, -np.inf):
+        a = np.ones(7)
+        a[3] = bad
+        assert not all_finite(a)
+    assert not all_finite(np.array([np.inf, -np.inf]))

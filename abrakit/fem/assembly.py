@@ -112,7 +112,7 @@ class Assembler:
         n, nqp, m, nbf = B.shape
         C = tangent[elements][:, :, self._comps[:, None], self._comps[None, :]]
         CB = np.matmul(C * kin.dx[elements][..., None, None], B)
-        Bt = B.transpose(0, 3, 1, 2).reshape(n, nbf, nqp * m)
+        Bt = self._Bt[elements] if self._small_strain_B else B.transpose(0, 3, 1, 2).reshape(n, nbf, nqp * m)
         return np.matmul(Bt, CB.reshape(n, nqp * m, nbf))
 
     def tangent_data(self, tangent: np.ndarray, u: np.ndarray | None = None,

@@ -35,7 +35,7 @@ import scipy.sparse as sp
 
 from ..io import progress_bar
 from ..materials.base import Material
-from ..validation import check_number_fields, check_positive, check_range
+from ..validation import all_finite, check_number_fields, check_positive, check_range
 from .assembly import Assembler
 from .boundary import Constraints, Dirichlet
 from .kinematics import Kinematics
@@ -384,17 +384,16 @@ class Solver:
             K = self.assembler.matrix(data) if full else None
             K_II = cons.condense_values(data)
             diag_pos = cons.diagonal_positions
-        if not np.all(np.isfinite(K_II.data)):
+        if not all_finite(K_II.data):
             raise LinearSolveError("non-finite tangent")
         # a region without stiffness (e.g. fully damaged) must not make K_II singular: floor its diagonal
-        floor = self.newton_options.stabilization * np.max(np.abs(K_II.diagonal()), initial=0.0)
+        diagonal = K_II.diagonal() if diag_pos is None else K_II.data[diag_pos]
+        floor = self.newton_options.stabilization * np.max(np.abs(diagonal), initial=0.0)
         if floor > 0:
             if diag_pos is None:
-                d = K_II.diagonal()
-                K_II = K_II + sp.diags(np.where(np.abs(d) < floor, floor, 0.0))
+                K_II = K_II + sp.diags(np.where(np.abs(diagonal) < floor, floor, 0.0))
             else:                                  # K_II's values are a copy of K's (condense gathers them)
-                d = K_II.data[diag_pos]
-                K_II.data[diag_pos] = np.where(np.abs(d) < floor, floor, d)
+                K_II.data[diag_pos] = np.where(np.abs(diagonal) < floor, floor, diagonal)
         return K, K_II
 
     def solve_linear(self, K_II, rhs: np.ndarray, new_step: bool) -> np.ndarray:

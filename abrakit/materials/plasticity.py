@@ -27,6 +27,7 @@ models (Model I, Model II) keep the seed's explicit scheme as their default: the
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -238,7 +239,7 @@ class VonMisesPlasticity(IsotropicElasticity):
 
     def _update_compiled(self, state, eps) -> MaterialResponse:
         batch = eps.shape[:-1]
-        m = int(np.prod(batch))
+        m = math.prod(batch)
         flat = [_flat(state[k], batch, tail) for k, tail in (("eps_p", (6,)), ("alpha_p", ()), ("dissipation", ()))]
         stress, tangent = np.empty((m, 6)), np.empty((m, 6, 6))
         eps_p, alpha_p, dissipation = np.empty((m, 6)), np.empty(m), np.empty(m)
