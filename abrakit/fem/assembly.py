@@ -63,8 +63,9 @@ class Assembler:
         self._B = kinematics.B() if b_bytes <= CACHE_BYTES and not isinstance(kinematics, FBarKinematics) else None
         self._one_scatter = 8 * kinematics.nel * nbf * nbf <= CACHE_BYTES
         # small strain with B cached: strain and internal force are one product with B each (a few numpy calls
-        # instead of a sum over the gradient table; what a small mesh's Newton iteration costs)
-        self._small_strain_B = self._B is not None and type(kinematics) is Kinematics
+        # instead of a sum over the gradient table; what a small mesh's Newton iteration costs), with a transposed
+        # copy of B while both fit in the cache budget
+        self._small_strain_B = self._B is not None and type(kinematics) is Kinematics and 2 * b_bytes <= CACHE_BYTES
         if self._small_strain_B:
             nel, nqp = kinematics.nel, kinematics.nqp
             self._Bt = np.ascontiguousarray(self._B.reshape(nel, nqp * len(self._comps), nbf).transpose(0, 2, 1))
