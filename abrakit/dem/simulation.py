@@ -402,14 +402,14 @@ class Simulation:
         """Normals, normal and total forces of a lean kernel step (results ``r``), built when read from the step's
         positions ``x``: n = d/|d| (Eq. 4.1), F^n = K^n U for U > 0 or K^n (U + gap) for a bond still intact
         (Eq. 4.6), F = F^n n + F^t (no dashpots), as the kernel computes them."""
-        c, kn = self.contacts, self.contacts.prm["kn"]
+        c, law = self.contacts, self.law
         bonded, gap = None, None
         if c.bonded.any():
             bonded, gap = c.bonded & ~(r.tension_failure | r.shear_failure), c.bond_gap.copy()
 
-        def fn():
-            spring = kn * np.maximum(overlap, 0.0)
-            return spring if bonded is None else np.where(bonded, kn * (overlap + gap), spring)
+        def fn():                                          # as force_displacement: the law, a bond's K^n (U + gap)
+            spring = law.normal_force(overlap, c.prm)[0]
+            return spring if bonded is None else np.where(bonded, c.prm["kn"] * (overlap + gap), spring)
 
         c.defer(normal=lambda: np.divide(*self._branches(x)), fn=fn, force=lambda: c.fn * c.normal + r.ft)
 

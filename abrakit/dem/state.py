@@ -198,7 +198,6 @@ class ContactSet:
             value = self._results[name] = value()
         return value
 
-
     def __getstate__(self) -> dict:
         """Pickles and copies hold the results themselves, not the makers (closures cannot be pickled)."""
         for name in list(self._results):
