@@ -134,12 +134,15 @@ def plate_tangent(element, n_angular, n_radial):
     return solver.tangent(response, [])[1]
 
 
-def test_auto_chooses_the_banded_lu_for_small_2d_meshes_and_a_sparse_solver_for_wide_bands():
+def test_auto_chooses_the_banded_lu_for_small_2d_meshes_and_a_sparse_solver_for_wide_bands(monkeypatch):
     """``auto`` decides at the first solve by the cost model of :func:`banded_wins`: the banded LU for a 2D plate
     of a hundred unknowns (band 19), the sparse solver for the 3D block (band of order n^(2/3)) and for a 2D
     mesh of 6000 unknowns."""
-    from abrakit.fem.linsolve import banded_wins
+    from abrakit.fem.linsolve import _BandedBackend, banded_wins
 
+    banded_analyses = []
+    analyse = _BandedBackend.analyse
+    monkeypatch.setattr(_BandedBackend, "analyse", lambda self, K: banded_analyses.append(1) or analyse(self, K))
     sparse = "direct-pardiso" if pardiso_available() else "direct-superlu"
     for K, expected in ((plate_tangent("Q4", 8, 6), "direct-banded"), (elastic_matrix(), sparse),
                         (plate_tangent("Q4", 64, 48), sparse)):
@@ -148,6 +151,9 @@ def test_auto_chooses_the_banded_lu_for_small_2d_meshes_and_a_sparse_solver_for_
         x = solver.solve(K, rhs)
         assert solver.name == expected
         np.testing.assert_allclose(K @ x, rhs, rtol=0, atol=1e-10 * np.abs(K).max())
+        solver.solve(2.0 * K, rhs)
+        assert solver.analyses == 1 and len(banded_analyses) == 1   # the banded analysis that decided is kept
+        banded_analyses.clear()
     assert banded_wins(100, 10, "superlu") and not banded_wins(100_000, 300, "pardiso")
 
 

@@ -284,10 +284,12 @@ class DirectSolver:
         and medium 2D meshes), else PARDISO if it loads, else SuperLU."""
         sparse = "pardiso" if pardiso_available() else "superlu"
         banded = _BandedBackend()
-        banded.analyse(K)
-        backend = "banded" if banded_wins(K.shape[0], banded.bandwidth, sparse) else sparse
-        self.backend = self._make(backend)
-        self.name = f"direct-{backend}"
+        self._timed("analyse", banded.analyse, K)             # its band decides
+        if banded_wins(K.shape[0], banded.bandwidth, sparse):
+            self.backend, self.name = banded, "direct-banded"
+            self._analyse(K, analysed=True)                   # kept: the first solve does not analyse again
+        else:
+            self.backend, self.name = self._make(sparse), f"direct-{sparse}"
 
     def _timed(self, what, fn, *args):
         t0 = time.perf_counter()
@@ -295,8 +297,11 @@ class DirectSolver:
         self.times[what] += time.perf_counter() - t0
         return out
 
-    def _analyse(self, K):
-        self._timed("analyse", self.backend.analyse, K)
+    def _analyse(self, K, analysed: bool = False):
+        """The back-end's symbolic analysis of K's pattern (``analysed``: it has done it already), kept with the
+        pattern it belongs to."""
+        if not analysed:
+            self._timed("analyse", self.backend.analyse, K)
         self._pattern = (K.indptr.copy(), K.indices.copy())
         self.analyses += 1
 
