@@ -237,6 +237,12 @@ class VtuSeries:
         self.entries = entries
         self._write_index()
 
+    @staticmethod
+    def position(series: VtuSeries | None) -> list[list]:
+        """The entries of ``series`` as JSON lists (``[]`` without a series): what a checkpoint keeps and
+        :meth:`restart` takes back."""
+        return [] if series is None else [list(e) for e in series.entries]
+
     def _write_index(self) -> None:
         lines = ['<?xml version="1.0"?>', '<VTKFile type="Collection" version="0.1">', "  <Collection>"]
         lines += [f'    <DataSet timestep="{t:.9g}" file="{f}"/>' for t, f in self.entries]

@@ -71,7 +71,6 @@ SNAP_BACK = ("pass", "stop")
 DAMAGE_SCHEMES = ("seed", "coupled")
 
 
-
 def element_damage_function(state: dict) -> np.ndarray:
     """Element damage function ``f_i = exp(-d_i)`` (Eq. 6.11) of a Model I state whose ``d`` is ``(nel, nqp)``."""
     return np.exp(-state["d"][:, 0])

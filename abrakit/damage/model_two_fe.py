@@ -74,7 +74,6 @@ CURVE_COLUMNS = ("step", "load_factor", "u", "F", "external_work", "rate_limit_w
                  "cutbacks", "seconds")
 
 
-
 def element_f_bar(state: dict, dx: np.ndarray) -> np.ndarray:
     """Element mean of ``f_bar`` (6.87), in [0, 1] (the rounding of the mean of ones is clipped)."""
     return np.minimum(element_mean(f_bar_of(state), dx), 1.0)
@@ -362,7 +361,7 @@ def run_model_two(specimen, alpha: float = 0.05, *, material: ModelIIDamage | No
         account_ = {k: getattr(book, k) for k in ("rows", "external", "plastic", "released", "threshold", "peak")}
         control = None if res.continuation is None else res.continuation["control"]
         meta = {"fingerprint": fingerprint, "account": account_, "control": control,
-                "vtu": [] if vtu is None else [list(e) for e in vtu.entries], "status": status, "message": message}
+                "vtu": VtuSeries.position(vtu), "status": status, "message": message}
         return save_checkpoint(out / RunWriter.CHECKPOINT, res.u, res.state, float(res.load_factors[-1]),
                                float(res.times[-1]), arrays=arrays, meta=meta)
 

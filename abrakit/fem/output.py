@@ -138,7 +138,7 @@ class RunWriter:
 
     def position(self) -> dict:
         """Where the output stands (for a checkpoint): steps written and the VTU series' entries."""
-        return {"count": self._count, "vtu": [] if self.vtu is None else [list(e) for e in self.vtu.entries]}
+        return {"count": self._count, "vtu": VtuSeries.position(self.vtu)}
 
     def restart(self, rows: list[dict], position: dict) -> None:
         """Continue the output of a run from a checkpoint: ``rows`` become ``curves.csv`` and the VTU series goes

@@ -392,7 +392,7 @@ class Solver:
         if floor > 0:
             if diag_pos is None:
                 K_II = K_II + sp.diags(np.where(np.abs(diagonal) < floor, floor, 0.0))
-            else:                                  # K_II's values are a copy of K's (condense gathers them)
+            else:                                  # K_II's values are its own (condense_values gathers them)
                 K_II.data[diag_pos] = np.where(np.abs(diagonal) < floor, floor, diagonal)
         return K, K_II
 

@@ -94,7 +94,7 @@ class ScratchRecorder:
     def position(self) -> dict:
         """Where the record stands (JSON-able, for a checkpoint): its rows, the last volume audit, the VTU entries."""
         return {"rows": self.rows, "budget": None if self.budget is None else self.budget._asdict(),
-                "vtu": [] if self.vtu is None else [list(e) for e in self.vtu.entries],
+                "vtu": VtuSeries.position(self.vtu),
                 "last_fields": self._last_fields}
 
     def restart(self, position: dict) -> None:
