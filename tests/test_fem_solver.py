@@ -167,6 +167,31 @@ def test_a_lifted_elastic_first_step_of_the_plate_needs_one_iteration():
     assert iterations[True] == 1 and iterations[False] >= 2     # unlifted: 2 (full integration), 4 (B-bar)
 
 
+def test_a_chord_step_confirms_convergence_without_a_new_factorisation():
+    """NewtonOptions(chord_check=True): where the residual has converged but the last correction was not yet
+    small, one chord step with the kept factors replaces a tangent assembly and factorisation. The plate's
+    plastic steps then need fewer factorisations, and the path agrees with full Newton's within the tolerances."""
+    from abrakit.fem.problems import TABLE_7_1_PLASTICITY
+
+    material = VonMisesPlasticity(**TABLE_7_1_PLASTICITY, integration="implicit")
+    runs = {}
+    for chord in (False, True):
+        solver = plate_with_hole_problem(material, displacement=0.1, linear_solver="superlu",
+                                         newton=NewtonOptions(chord_check=chord))
+        runs[chord] = (solver.run(progress=False), solver.linear_solver)
+    (full, full_ls), (chorded, chord_ls) = runs[False], runs[True]
+    assert full_ls.factorisations == full_ls.solves == int(full.iterations.sum())
+    assert chord_ls.solves - chord_ls.factorisations >= 5                      # chord steps taken
+    assert chord_ls.factorisations < full_ls.factorisations
+    np.testing.assert_allclose(chorded.curves["F_top"], full.curves["F_top"], rtol=1e-5)
+    assert np.abs(chorded.u - full.u).max() <= 1e-4 * np.abs(full.u).max()
+
+
+def test_chord_check_must_be_a_bool():
+    with pytest.raises(TypeError, match="chord_check"):
+        NewtonOptions(chord_check="yes")
+
+
 # ---- load stepping: cutback, growth, failure ---------------------------------------------------------------------
 def test_failed_step_is_cut_back_and_recovers():
     basis = vector_basis(strip())

@@ -336,6 +336,19 @@ class DirectSolver:
         raise LinearSolveError(f"{self.name} produced an inaccurate or non-finite solution (singular tangent?)")
 
 
+    def resolve(self, rhs: np.ndarray) -> np.ndarray:
+        """x with K_last x = rhs, K_last the matrix of the last factorisation (a chord step's solve: no
+        assembly, no factorisation). Raises :class:`LinearSolveError` if nothing has been factorised yet."""
+        if self.factorisations == 0:
+            raise LinearSolveError("resolve needs a factorisation: call solve first")
+        rhs = np.asarray(rhs, dtype=float)
+        x = self._timed("solve", self.backend.solve, rhs)
+        self.solves += 1
+        if not all_finite(x):
+            raise LinearSolveError(f"{self.name}: non-finite solution with the kept factors")
+        return x
+
+
 def _norm(a: np.ndarray) -> float:
     """The 2-norm (Frobenius for several right-hand sides) in one dot product."""
     return float(np.sqrt(np.vdot(a, a)))

@@ -10,8 +10,10 @@ the *last converged* state, so a rejected step is retried from it unchanged.
 
 A step converges when both ||R_I||_inf <= residual_tol * F_ref and ||du||_inf <= increment_tol * ||u - u_m||_inf
 (the increment test is waived once ||R_I||_inf <= exact_tol * F_ref; F_ref is the largest internal, external or
-hook force). A step that diverges (non-finite values, residual growth after ``divergence_check_after``
-iterations, too many iterations, singular tangent) is retried with dlambda * cutback; after
+hook force). Where the residual has converged but the last correction was not small, a chord step with the factors
+kept from the step's last tangent (``NewtonOptions(chord_check=True)``, the default) tests the increment without
+a new tangent and factorisation. A step that diverges (non-finite values, residual growth after
+``divergence_check_after`` iterations, too many iterations, singular tangent) is retried with dlambda * cutback; after
 ``easy_steps`` consecutive steps needing at most ``easy_iterations`` iterations dlambda grows by ``growth``
 (the defaults follow Abaqus/Standard's time incrementation). If dlambda falls below ``minimum``, :class:`StepFailed`
 is raised with the last converged state (also saved to ``<output>/last_converged.npz``, which a run with
@@ -82,12 +84,15 @@ class NewtonOptions:
     max_iterations: int = 12
     divergence_check_after: int = 4
     stabilization: float = 1e-9   # floor of the tangent diagonal, relative to its largest entry
+    chord_check: bool = True      # a converged residual's increment test by a chord step (see Solver.newton)
 
     def __post_init__(self):
         check_number_fields(self)
         for name in ("residual_tol", "increment_tol", "exact_tol", "absolute_force"):
             check_positive(name, getattr(self, name))
         check_range("max_iterations", self.max_iterations, 1, None)
+        if not isinstance(self.chord_check, bool):
+            raise TypeError(f"chord_check must be True or False, got {self.chord_check!r}")
         check_positive("stabilization", self.stabilization, allow_zero=True)
 
 
@@ -414,13 +419,21 @@ class Solver:
         With ``lift`` (Δu_D: the prescribed increment, zero on free DOFs) ``u_trial`` is the start of the step
         (prescribed DOFs at their old values) and the first iteration solves K_II du_I = −R_I − K_ID Δu_D there:
         a purely elastic step is then exact after one iteration, and no boundary layer of elements takes the
-        whole increment alone."""
+        whole increment alone.
+
+        With ``NewtonOptions(chord_check=True)`` an iterate whose residual has converged but whose last correction
+        was not yet small takes a *chord* step, du_I = −K_old⁻¹ R_I with the factors of the step's last tangent
+        (a linear solver with ``resolve``, e.g. :class:`~abrakit.fem.DirectSolver`), instead of assembling and
+        factorising a new tangent only to confirm convergence. The chord step still moves u and its size is tested
+        like a Newton correction's; if it is not small, the step goes on with full Newton corrections only."""
         opts = self.newton_options
         free = self.constraints.free
         u = np.array(u_trial, dtype=float)
         residuals: list[float] = []
         increment = np.inf
         first = 0
+        chord = False                                 # a chord step was taken (one per step at most)
+        resolve = getattr(self.linear_solver, "resolve", None) if opts.chord_check else None
         if lift is not None:
             ctx_0 = replace(ctx, iteration=0, u=u)
             try:
@@ -454,8 +467,11 @@ class Solver:
                                     f"{tol:.3e} N)", residuals)
             if k >= opts.divergence_check_after and min(residuals[:-2]) < min(residuals[-2:]):
                 raise NewtonFailure(f"diverging (residual {norm:.3e} N after {k} iterations)", residuals)
+            take_chord = resolve is not None and norm <= tol and k > 0 and not chord
+            chord = chord or take_chord
             try:
-                du = self._correction(response, extra_K, residual, new_step=(k == first), u=u)
+                du = resolve(-r_free) if take_chord else self._correction(response, extra_K, residual,
+                                                                          new_step=(k == first), u=u)
             except LinearSolveError as exc:
                 raise NewtonFailure(str(exc), residuals) from exc
             u[free] += du
