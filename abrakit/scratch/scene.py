@@ -29,7 +29,12 @@ stale factorisation as GMRES preconditioner did not pay, since plastic points sw
 plastic change the tangent too much between iterations; an AMG-preconditioned GMRES with a reused hierarchy is
 the option for large meshes), a backtracking line search that keeps Newton from cycling across the kinks of
 contact and plasticity (fewer cut-backs), and Model II's damage sweep skips every point whose driving force is
-below the threshold (Φ_d < 0). Units: N, mm, MPa (µm values written as mm).
+below the threshold (Φ_d < 0). Every increment starts from the last converged state (``StepControl(extrapolate=
+False)``): extrapolating the last increment pushes the nodes ahead of a moving tip into it or away from it, and
+on the seed's default scene it cost 791 instead of 646 Newton iterations and two cutbacks for the same grooves (f_ab
+equal to 10⁻⁷); on the finite-strain scene the extrapolating run stalled in cutbacks. A converged residual's
+increment test takes a chord step with the kept factors (:class:`~abrakit.fem.NewtonOptions` ``chord_check``).
+Units: N, mm, MPa (µm values written as mm).
 """
 
 from __future__ import annotations
@@ -755,7 +760,8 @@ def run_scratch(scene: ScratchScene = ScratchScene(), *, output=None, progress: 
         for start, end, dtau in _segments(scene, spec):
             if end <= tau_done:                                              # done before the checkpoint
                 continue
-            solver.control = StepControl(initial=dtau, maximum=dtau, minimum=dtau * 1e-3, easy_iterations=7)
+            solver.control = StepControl(initial=dtau, maximum=dtau, minimum=dtau * 1e-3, easy_iterations=7,
+                                         extrapolate=False)                   # see the module docstring
             result = solver.run(start=start, end=end, u0=u, state0=state, progress=progress, on_step=on_step,
                                 continuation=continuation if start < tau_done else None)
             u, state = result.u, result.state
