@@ -64,11 +64,16 @@ class Assembler:
         self._one_scatter = 8 * kinematics.nel * nbf * nbf <= CACHE_BYTES
         # small strain with B cached: strain and internal force are one product with B each (a few numpy calls
         # instead of a sum over the gradient table; what a small mesh's Newton iteration costs), with a transposed
-        # copy of B while both fit in the cache budget
-        self._small_strain_B = self._B is not None and type(kinematics) is Kinematics and 2 * b_bytes <= CACHE_BYTES
+        # copy of B and B as one sparse matrix (its values B's own, its column indices half B's bytes) while all
+        # fit in the cache budget
+        self._small_strain_B = (self._B is not None and type(kinematics) is Kinematics
+                                and 2.5 * b_bytes <= CACHE_BYTES)
         if self._small_strain_B:
-            nel, nqp = kinematics.nel, kinematics.nqp
+            nel, nqp, rows = kinematics.nel, kinematics.nqp, self._B[..., 0].size
             self._Bt = np.ascontiguousarray(self._B.reshape(nel, nqp * len(self._comps), nbf).transpose(0, 2, 1))
+            columns = np.broadcast_to(kinematics.element_dofs[:, None, :], (nel, nqp * len(self._comps), nbf))
+            self._B_global = sp.csr_matrix((self._B.reshape(-1), columns.reshape(-1).astype(np.int32),
+                                            np.arange(0, rows * nbf + 1, nbf)), shape=(rows, n), copy=False)
 
     @property
     def ndof(self) -> int:
@@ -80,13 +85,11 @@ class Assembler:
     # ---- Eq. (4.29) and (4.37) ---------------------------------------------------------------------------------
     def strain(self, u: np.ndarray) -> np.ndarray:
         """The kinematics' strain measure at every quadrature point (:meth:`Kinematics.strain`); small strain
-        eps = B u_e (Eq. 4.29) as one product with the cached B."""
+        eps = B u_e (Eq. 4.29) as one sparse product with the cached B of all elements."""
         if not self._small_strain_B:
             return self.kin.strain(u)
-        u_e = np.asarray(u, dtype=float)[self.kin.element_dofs]
-        active = np.matmul(self._B, u_e[:, None, :, None])[..., 0]                 # (e, q, components)
-        eps = np.zeros(active.shape[:2] + (6,))
-        eps[..., self._comps] = active
+        eps = np.zeros((self.kin.nel, self.kin.nqp, 6))
+        eps[..., self._comps] = (self._B_global @ np.asarray(u, dtype=float)).reshape(eps.shape[:2] + (-1,))
         return eps
 
     def element_forces(self, stress: np.ndarray, u: np.ndarray | None = None) -> np.ndarray:
