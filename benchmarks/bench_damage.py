@@ -18,11 +18,24 @@ softening displacement (peak to half the peak force) and the largest alpha_p; al
 ``abrakit.damage.metrics.specimen_metrics``. ``--reanalyse`` recomputes them from the stored runs.
 
     python benchmarks/bench_damage.py [--quick] [--outdir DIR] [--models I II] [--specimens ...]
-                                      [--formulation plane_strain|extruded] [--reanalyse]
+                                      [--formulation plane_strain|extruded] [--control displacement|path]
+                                      [--against DIR] [--reanalyse]
 
 ``--formulation extruded`` builds the specimens as the seed did, one hexahedron through the 3 mm plate (plane
 stress in effect); the default is plane strain with the forces of the 3 mm plate. The stored extruded study is
 in ``benchmarks/results/damage_extruded/``.
+
+``--control path`` follows every path through its snap-back instead (one run per mesh, the step adapts): Model I
+by the opening of a gauge across the band (double notch: 29 to 71 mm; sharp notch: the ligament row against the
+row nearest 1 mm above it; plate with a hole: the hole's nodes within 2 mm above the symmetry line against that
+line), Model II by Crisfield's arc length. Its rows add the work along the whole followed path
+(``work_Nmm``: at 10 % of the peak almost all of it is dissipated), the smallest top displacement after the peak
+(below ``u_at_peak_mm`` where the path snaps back), and the steps, Newton iterations and seconds of the
+displacement-controlled run on the same mesh at the small step (read from ``--against``, default the stored
+``damage.json`` of the same mode). The curve metrics against the reference take the displacement-controlled
+meaning only (a followed path is not a function of u), so they are left out. Stored in
+``benchmarks/results/damage_path/`` (``damage_path_extruded/``); its ``damage.json`` is written after every run
+(``--control path --reanalyse`` rebuilds it from ``damage.csv``).
 
 writes ``damage.csv`` (one row per run, flushed as it goes), ``damage.json`` (mesh-independence metrics per case,
 cost of Model I vs Model II, how and when it was produced), ``damage.png`` (runtime against curve error; cost per
@@ -43,6 +56,7 @@ import numpy as np
 from abrakit.damage import metrics as M
 from abrakit.damage.runs import REGULARISATION, run_specimen
 from abrakit.damage.specimens import SPECIMENS, plot_field, specimen
+from abrakit.fem import PathControl
 from abrakit.io import CurveWriter, write_json
 
 NAME = "damage"
@@ -131,6 +145,149 @@ def main(outdir: Path = RESULTS, quick: bool = False,
                "python": platform.python_version(), "levels": [str(lv) for lv in levels], "steps_mm": list(STEPS),
                "stop_fraction": STOP_FRACTION, "displacement_mm": DISPLACEMENT, "formulation": formulation}
     return finish(outdir, records, summary)
+
+
+PATH_COLUMNS = ["specimen", "formulation", "model", "regularisation", "parameter", "level", "elements", "dofs",
+                "status", "steps", "newton_iterations", "cutbacks", "seconds", "peak_force_N", "u_at_peak_mm",
+                "smallest_u_after_peak_mm", "work_Nmm", "final_force_fraction", "band_width_mm", "damaged_pieces",
+                "displacement_status", "displacement_steps", "displacement_iterations", "displacement_cutbacks",
+                "displacement_seconds", "displacement_peak_force_N", "displacement_work_Nmm"]
+GAUGES = {"double_notched": (29.0, 71.0), "sharp_notch": (0.0, 1.0)}
+"""Model I's path-following gauges (mm): heights of the two node rows whose mean relative displacement is followed."""
+
+
+def crack_opening(sp) -> tuple[np.ndarray, np.ndarray]:
+    """The opening Model I follows on ``sp``: across :data:`GAUGES` where rows of nodes make a gauge; on the plate
+    with a hole (polar mesh, no rows) the mean y-displacement of the hole's nodes within 2 mm above the symmetry line
+    y = 0, where the crack starts, against the nodes on that line (held at u_y = 0)."""
+    if sp.name in GAUGES:
+        return sp.gauge(*GAUGES[sp.name])
+    x, y = sp.mesh.p[0], sp.mesh.p[1]
+    on_hole = np.abs(np.hypot(x, y) - sp.dimensions["hole_diameter"] / 2) < 1e-6
+    y_dofs = np.asarray(sp.basis.nodal_dofs)[1]
+    return y_dofs[on_hole & (y > 1e-9) & (y <= 2.0)], y_dofs[np.abs(y) <= 1e-9]
+
+
+def follow_specimen(sp, model: str, parameter: float, step: float):
+    """One path-followed run (see the module docstring): Model I by :func:`crack_opening` in equal openings (the
+    opening of the first load step of ``step``), Model II by arc length (load-factor steps of 2 ``step`` /
+    displacement at first).
+
+    Model I's followed peak depends on the opening step: on the double notch (250 elements, β = 1) a first load
+    step of 10 ``step`` with openings growing to 20 times the first gives 6037 N, one of ``step`` with the same
+    growth 7883 N, equal openings of the first step 9564 N, against 10 494 N under displacement control at
+    ``step`` (which overshoots by the operator split's O(step) error). Large openings let the converged damage of
+    a step run ahead onto a branch where the bands unload; equal small openings are the choice here."""
+    h = step / sp.displacement
+    if model == "I":
+        return run_specimen(sp, "I", parameter, step=step, stop_fraction=STOP_FRACTION, opening=crack_opening(sp),
+                            path=PathControl(initial=h, maximum=h, max_ratio=1.0, max_steps=20000))
+    return run_specimen(sp, "II", parameter, step=step, stop_fraction=STOP_FRACTION,
+                        path=PathControl(initial=2 * h, maximum=2 * h, target_iterations=8, max_steps=4000))
+
+
+def displacement_row(against: Path, spec_name, model, strength, level) -> dict:
+    """The displacement-controlled run on the same mesh at the small step, from the stored study ``against``."""
+    import csv
+
+    rows = []
+    if (against / f"{NAME}.csv").exists():
+        with open(against / f"{NAME}.csv", newline="") as fh:
+            rows = [r for r in csv.DictReader(fh) if (r["specimen"], r["model"], r["regularisation"], r["level"])
+                    == (spec_name, model, strength, str(level)) and float(r["step_mm"]) == STEPS[0]]
+    stored = against / f"{NAME}_runs" / f"{case_name(spec_name, model, strength, level, STEPS[0])}.npz"
+    if not rows or not stored.exists():
+        return {}
+    r, data = rows[0], np.load(stored)
+    return {"displacement_status": r["status"], "displacement_steps": int(r["steps"]),
+            "displacement_iterations": int(r["newton_iterations"]), "displacement_cutbacks": int(r["cutbacks"]),
+            "displacement_seconds": float(r["seconds"]), "displacement_peak_force_N": float(np.max(data["F"])),
+            "displacement_work_Nmm": M.work(data["u"], data["F"])}
+
+
+def main_path(outdir: Path, against: Path, quick: bool = False, models=("I", "II"), specimens=tuple(SPECIMENS),
+              formulation: str = "plane_strain") -> dict:
+    """``--control path``: every specimen, model, regularisation and mesh followed through its snap-back."""
+    outdir = Path(outdir)
+    runs_dir = outdir / f"{NAME}_runs"
+    runs_dir.mkdir(parents=True, exist_ok=True)
+    mode = "quick" if quick else "full"
+    levels = LEVELS[mode]
+    t_start, rows, summary = time.perf_counter(), [], {}
+    with CurveWriter(outdir / f"{NAME}.csv", PATH_COLUMNS) as writer:
+        for spec_name in specimens:
+            for model in models:
+                for strength, parameter in REGULARISATION[model].items():
+                    for level in levels:
+                        sp = specimen(spec_name, level, displacement=DISPLACEMENT, formulation=formulation)
+                        run = follow_specimen(sp, model, parameter, STEPS[0])
+                        u, F = np.asarray(run.u), np.asarray(run.F)
+                        i = int(np.argmax(F))
+                        band = M.band_width(sp.plane_mesh, run.stiffness_loss, 0.5, length=sp.band_length,
+                                            mirror=sp.band_mirror)
+                        row = {"specimen": spec_name, "formulation": formulation, "model": model,
+                               "regularisation": strength, "parameter": parameter, "level": str(level),
+                               "elements": sp.elements, "dofs": int(sp.basis.N), "status": run.status,
+                               "steps": run.steps, "newton_iterations": run.iterations, "cutbacks": run.cutbacks,
+                               "seconds": run.seconds, "peak_force_N": float(F[i]), "u_at_peak_mm": float(u[i]),
+                               "smallest_u_after_peak_mm": float(np.min(u[i:])),
+                               "work_Nmm": float(np.sum(0.5 * (F[1:] + F[:-1]) * np.diff(u))),
+                               "final_force_fraction": float(F[-1] / F[i]), "band_width_mm": band.width,
+                               "damaged_pieces": M.damaged_components(sp.plane_mesh, run.stiffness_loss, 0.9,
+                                                                      min_fraction=0.05),
+                               **displacement_row(Path(against), spec_name, model, strength, level)}
+                        writer.write(**row)
+                        rows.append(row)
+                        np.savez_compressed(runs_dir / f"{case_name(spec_name, model, strength, level, 0)}.npz",
+                                            u=u, F=F, stiffness_loss=run.stiffness_loss.astype(np.float32))
+                        print(f"[damage path] {spec_name} {model} {strength} {level}: {run.status}, {run.steps} "
+                              f"steps, {run.seconds:.1f} s, peak {row['peak_force_N']:.0f} N, work "
+                              f"{row['work_Nmm']:.0f} N mm", flush=True)
+                        summary = summarise_path(outdir, rows, {
+                            "mode": mode, "formulation": formulation, "levels": [str(lv) for lv in levels],
+                            "wall_time_s": time.perf_counter() - t_start, "against": str(against)})
+    return summary
+
+
+def reanalyse_path(outdir: Path) -> dict:
+    """``damage.json`` of a path-following study rebuilt from its ``damage.csv`` (e.g. of a study stopped early)."""
+    import csv
+
+    outdir = Path(outdir)
+    with open(outdir / f"{NAME}.csv", newline="") as fh:
+        raw = list(csv.DictReader(fh))
+    text = {"specimen", "formulation", "model", "regularisation", "level", "status", "displacement_status"}
+    counts = {"elements", "dofs", "steps", "newton_iterations", "cutbacks", "damaged_pieces", "displacement_steps",
+              "displacement_iterations", "displacement_cutbacks"}
+    rows = [{k: v if k in text else int(float(v)) if k in counts else float(v) for k, v in r.items() if v != ""}
+            for r in raw]
+    levels = list(dict.fromkeys(r["level"] for r in rows))
+    mode = "quick" if all(lv in map(str, LEVELS["quick"]) for lv in levels) else "full"
+    return summarise_path(outdir, rows, {"mode": mode, "formulation": rows[0]["formulation"] if rows else "",
+                                         "levels": levels, "wall_time_s": sum(r["seconds"] for r in rows),
+                                         "against": "", "reanalysed": True})
+
+
+def summarise_path(outdir: Path, rows: list[dict], meta: dict) -> dict:
+    """``damage.json`` of a path-following study from its rows so far (written after every run, so that an
+    interrupted study keeps a readable summary): per case the mesh spreads of peak and work, whether a path
+    snapped back, and the cost beside the displacement-controlled runs."""
+    cases = {}
+    for r in rows:
+        cases.setdefault(f"{r['specimen']}/{r['model']}/{r['regularisation']}", []).append(r)
+    summary = {**meta, "control": "path", "stop_fraction": STOP_FRACTION, "gauges_mm": GAUGES, "runs": len(rows),
+               "date": datetime.datetime.now().isoformat(timespec="seconds"), "machine": platform.platform(),
+               "cases": {key: {"peak_spread": M.relative_spread([r["peak_force_N"] for r in case]),
+                               "work_spread": M.relative_spread([r["work_Nmm"] for r in case]),
+                               "snaps_back": any(r["smallest_u_after_peak_mm"] < r["u_at_peak_mm"] for r in case),
+                               "steps": sum(r["steps"] for r in case), "seconds": sum(r["seconds"] for r in case),
+                               "cutbacks": sum(r["cutbacks"] for r in case),
+                               "displacement_steps": sum(r.get("displacement_steps", 0) for r in case),
+                               "displacement_seconds": sum(r.get("displacement_seconds", 0.0) for r in case),
+                               "displacement_cutbacks": sum(r.get("displacement_cutbacks", 0) for r in case),
+                               "runs": case} for key, case in cases.items()}}
+    write_json(Path(outdir) / f"{NAME}.json", summary)
+    return summary
 
 
 def finish(outdir: Path, records: list, summary: dict) -> dict:
@@ -301,11 +458,23 @@ if __name__ == "__main__":
     parser.add_argument("--specimens", nargs="+", default=list(SPECIMENS), choices=list(SPECIMENS))
     parser.add_argument("--formulation", default="plane_strain", choices=["plane_strain", "extruded"],
                         help="plane strain x 3 mm, or the seed's one element through the 3 mm plate")
+    parser.add_argument("--control", default="displacement", choices=["displacement", "path"],
+                        help="displacement steps with cutbacks, or path following through the snap-back")
+    parser.add_argument("--against", type=Path, default=None,
+                        help="the displacement-controlled study the path-followed rows compare with (default: "
+                             "results/ for plane strain, results/damage_extruded/ for extruded)")
     parser.add_argument("--reanalyse", action="store_true",
                         help="recompute the metrics of the stored runs in OUTDIR without rerunning them")
     args = parser.parse_args()
     if args.reanalyse:
-        result = reanalyse(args.outdir)
+        result = reanalyse_path(args.outdir) if args.control == "path" else reanalyse(args.outdir)
+    elif args.control == "path":
+        extruded = args.formulation == "extruded"
+        outdir = args.outdir if args.outdir != RESULTS else RESULTS / ("damage_path_extruded" if extruded
+                                                                       else "damage_path")
+        against = args.against or (RESULTS / "damage_extruded" if extruded else RESULTS)
+        result = main_path(outdir, against, quick=args.quick, models=tuple(args.models),
+                           specimens=tuple(args.specimens), formulation=args.formulation)
     else:
         result = main(args.outdir, quick=args.quick, models=tuple(args.models), specimens=tuple(args.specimens),
                       formulation=args.formulation)

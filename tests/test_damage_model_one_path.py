@@ -120,3 +120,37 @@ def test_a_gauge_is_refused_for_model_two_and_the_offset_reaches_the_description
     assert "+/- 5 mm" in specimen.description and specimen.dimensions["offset"] == 5.0
     with pytest.raises(ValueError, match="gauge"):
         run_specimen(specimen, "II", 0.005, gauge=(29.0, 71.0))
+    with pytest.raises(ValueError, match="opening"):
+        run_specimen(specimen, "II", 0.005, opening=specimen.gauge(29.0, 71.0))
+    with pytest.raises(ValueError, match="not both"):
+        run_specimen(specimen, "I", 1.0, gauge=(29.0, 71.0), opening=specimen.gauge(29.0, 71.0))
+
+
+def test_an_opening_of_ones_own_is_followed_like_the_gauge_it_equals():
+    """run_specimen(opening=(plus, minus)) follows the same path as gauge=(low, high) when the DOF sets are the
+    gauge's (the plate with a hole, whose polar mesh has no rows, needs its own)."""
+    from abrakit.damage.runs import run_specimen
+    from abrakit.damage.specimens import double_notched
+
+    specimen = double_notched(250)
+    by_gauge = run_specimen(specimen, "I", 1.0, gauge=(29.0, 71.0))
+    by_opening = run_specimen(specimen, "I", 1.0, opening=specimen.gauge(29.0, 71.0))
+    assert by_gauge.status == by_opening.status == "fractured"
+    np.testing.assert_array_equal(by_opening.F, by_gauge.F)
+    np.testing.assert_array_equal(by_opening.u, by_gauge.u)
+
+
+def test_model_two_is_followed_by_arc_length_through_run_specimen():
+    """run_specimen(model="II", path=...) runs Model II under arc length: fracture without a cutback, and the
+    peak of displacement control at the same step to 1 %."""
+    from abrakit.damage.runs import run_specimen
+    from abrakit.damage.specimens import double_notched
+    from abrakit.fem import PathControl
+
+    specimen = double_notched(250)
+    h = 0.002 / specimen.displacement
+    followed = run_specimen(specimen, "II", 0.005, path=PathControl(initial=2 * h, maximum=2 * h,
+                                                                    target_iterations=8, max_steps=1000))
+    stepped = run_specimen(specimen, "II", 0.005)
+    assert followed.status == "fractured" and followed.cutbacks == 0
+    assert np.max(followed.F) == pytest.approx(np.max(stepped.F), rel=1e-2)

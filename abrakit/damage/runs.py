@@ -61,7 +61,8 @@ class _Stop(Exception):
 
 def run_specimen(specimen: Specimen, model: str, parameter: float, *, step: float = 0.002,
                  stop_fraction: float | None = 0.1, gauge: tuple[float, float] | None = None,
-                 path: PathControl | None = None, material_options: dict | None = None) -> SpecimenRun:
+                 opening: tuple[np.ndarray, np.ndarray] | None = None, path: PathControl | None = None,
+                 material_options: dict | None = None) -> SpecimenRun:
     """Load ``specimen`` to its ``displacement`` in equal increments ``step`` (mm) with Model I or Model II.
 
     ``model="II"``: :func:`abrakit.damage.model_two_fe.run_model_two` with ``alpha = parameter`` (Table 7.2).
@@ -76,10 +77,18 @@ def run_specimen(specimen: Specimen, model: str, parameter: float, *, step: floa
     the normal damage d_n, ``alpha_p`` zero, and ``dissipated`` the dissipation at every step.
     ``material_options`` change :data:`~abrakit.damage.crack_band.STEEL_SPECIMENS` (e.g. ``{"surface": 0}``).
 
-    ``gauge=(low, high)`` (mm, Model I only): follow the path instead
+    ``gauge=(low, high)`` (mm): follow the path instead
     (:class:`~abrakit.damage.model_one_path.ModelIPathFollowingSolver`, opening of the extensometer
     :meth:`Specimen.gauge`; ``path`` default: first load step 10 ``step``, opening steps at most 20 times the
-    first), through any snap-back, until ``stop_fraction`` of the peak.
+    first), through any snap-back, until ``stop_fraction`` of the peak. ``opening=(dofs_plus, dofs_minus)``: the
+    same with an opening of one's own (mean relative displacement of the two DOF sets), where no row of nodes
+    makes a gauge (the plate with a hole's polar mesh).
+
+    ``model="II"`` with ``path``: Model II under Crisfield's arc length over all unknowns (:func:`run_model_two`
+    with ``method="arc-length"``; the rate limit on the magnitude of the boundary work), until ``stop_fraction``.
+    (Model II under an opening control was tried on the double notch, 250 elements: its rate limit lets a step
+    damage only as much as the boundary work of the step allows, which is almost nothing once the load falls, and
+    20 000 opening steps took the force only to 90 % of the peak.)
     """
     check_option("model", model, MODELS)
     if material_options and model != "anisotropic":
@@ -87,20 +96,27 @@ def run_specimen(specimen: Specimen, model: str, parameter: float, *, step: floa
     if model == "anisotropic":
         return _crack_band(specimen, parameter, path, 10 * step / specimen.displacement, stop_fraction,
                            material_options or {})
-    if gauge is not None and model != "I":
-        raise ValueError(f"gauge: path following by a gauge opening is for Model I only, got model={model!r}")
+    if (gauge is not None or opening is not None) and model != "I":
+        raise ValueError(f"gauge, opening: path following by an opening is for Model I only, got model={model!r} "
+                         "(Model II follows its path by arc length: path=PathControl(...))")
+    if gauge is not None and opening is not None:
+        raise ValueError("give gauge (heights) or opening (DOF sets), not both")
+    if gauge is not None:
+        opening = specimen.gauge(*gauge)
     steps = max(1, int(round(specimen.displacement / check_positive("step", step))))
+    h = 1.0 / steps
     if model == "II":
-        res = run_model_two(specimen, parameter, steps=steps, stop_fraction=stop_fraction)
+        res = run_model_two(specimen, parameter, steps=steps, stop_fraction=stop_fraction, path=path,
+                            method="arc-length" if path is not None else "dissipation")
         c = res.curves
         return SpecimenRun("II", parameter, c["u"], c["F"], res.stiffness_loss, res.alpha_p, res.status,
                            res.message, res.steps, res.newton_iterations, res.cutbacks, res.wall_time, res)
 
     material = ModelIDamage(**{**TABLE_7_1, "beta": parameter}, integration="implicit", tangent="consistent")
-    h = 1.0 / steps
-    if gauge is not None:
-        return _follow(specimen, material, gauge, path or PathControl(initial=10 * h, maximum=10 * h, max_ratio=20.0,
-                                                                      max_steps=20000), stop_fraction)
+    if opening is not None:
+        return _follow(specimen, material, opening,
+                       path or PathControl(initial=10 * h, maximum=10 * h, max_ratio=20.0, max_steps=20000),
+                       stop_fraction)
     solver = ModelISolver(specimen.basis, material, specimen.dirichlet,
                           control=StepControl(initial=h, maximum=h, minimum=h * 1e-3))
     name, scale, last, peak = specimen.loaded, specimen.force_scale, [None], [0.0]
@@ -125,10 +141,10 @@ def run_specimen(specimen: Specimen, model: str, parameter: float, *, step: floa
                        res)
 
 
-def _follow(specimen: Specimen, material, gauge, path: PathControl, stop_fraction) -> SpecimenRun:
-    """Model I on ``specimen`` under path following by the opening of ``gauge`` (see :func:`run_specimen`)."""
+def _follow(specimen: Specimen, material, opening, path: PathControl, stop_fraction) -> SpecimenRun:
+    """Model I on ``specimen`` under path following by ``opening`` (DOF sets; see :func:`run_specimen`)."""
     solver = ModelIPathFollowingSolver(specimen.basis, material, specimen.dirichlet, method="opening",
-                                       opening=specimen.gauge(*gauge), path=path, max_sweeps=400)
+                                       opening=opening, path=path, max_sweeps=400)
     status, message = "fractured", ""
     try:
         res = solver.run(stop_force=stop_fraction or 0.0, end=np.inf, progress=False)
