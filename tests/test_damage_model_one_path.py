@@ -140,6 +140,16 @@ def test_an_opening_of_ones_own_is_followed_like_the_gauge_it_equals():
     np.testing.assert_array_equal(by_opening.u, by_gauge.u)
 
 
+def test_a_followed_run_that_runs_out_of_steps_is_not_called_fractured():
+    from abrakit.damage.runs import run_specimen
+    from abrakit.damage.specimens import double_notched
+    from abrakit.fem import PathControl
+
+    run = run_specimen(double_notched(250), "I", 1.0, gauge=(29.0, 71.0),
+                       path=PathControl(initial=0.01, maximum=0.01, max_steps=5))
+    assert run.status == "end" and "max_steps = 5" in run.message and run.steps == 5
+
+
 def test_model_two_is_followed_by_arc_length_through_run_specimen():
     """run_specimen(model="II", path=...) runs Model II under arc length: fracture without a cutback, and the
     peak of displacement control at the same step to 1 %."""

@@ -141,13 +141,23 @@ def run_specimen(specimen: Specimen, model: str, parameter: float, *, step: floa
                        res)
 
 
+def _ended(F, stop_fraction, max_steps: int) -> tuple[str, str]:
+    """Status and message of a path-followed run that returned: "fractured" once the force has fallen to
+    ``stop_fraction`` of its peak, else "end" (``max_steps`` ran out first)."""
+    F = np.abs(np.asarray(F, dtype=float))
+    if stop_fraction and F.size and F[-1] <= stop_fraction * F.max():
+        return "fractured", ""
+    return "end", (f"max_steps = {max_steps} reached at {F[-1] / max(F.max(), 1e-300):.2f} of the peak force"
+                   if F.size else "no step")
+
+
 def _follow(specimen: Specimen, material, opening, path: PathControl, stop_fraction) -> SpecimenRun:
     """Model I on ``specimen`` under path following by ``opening`` (DOF sets; see :func:`run_specimen`)."""
     solver = ModelIPathFollowingSolver(specimen.basis, material, specimen.dirichlet, method="opening",
                                        opening=opening, path=path, max_sweeps=400)
-    status, message = "fractured", ""
     try:
         res = solver.run(stop_force=stop_fraction or 0.0, end=np.inf, progress=False)
+        status, message = _ended(res.curves[f"F_{specimen.loaded}"], stop_fraction, solver.path.max_steps)
     except StepFailed as failure:      # keep the followed part of the path
         status, message = "failed", str(failure)
         res = solver.result_of(failure.result)
@@ -167,12 +177,12 @@ def _crack_band(specimen: Specimen, toughness: float, path: PathControl | None, 
                                max_steps=5000)
     solver = PathFollowingSolver(specimen.basis, material, specimen.dirichlet, path=path)
     dissipated = [0.0]
-    status, message = "fractured", ""
     tic = time.perf_counter()
     try:
         res = solver.run(stop_force=stop_fraction or 0.0, end=np.inf, progress=False, vtu_every=0,
                          on_step=lambda r: dissipated.append(float(np.sum(material.dissipation(r.state)
                                                                             * solver.kin.dx))))
+        status, message = _ended(res.curves[f"F_{specimen.loaded}"], stop_fraction, path.max_steps)
     except StepFailed as failure:      # keep the followed part of the path
         status, message, res = "failed", str(failure), failure.result
     c, name = res.curves, specimen.loaded
