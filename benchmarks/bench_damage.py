@@ -186,23 +186,29 @@ def follow_specimen(sp, model: str, parameter: float, step: float):
                         path=PathControl(initial=2 * h, maximum=2 * h, target_iterations=8, max_steps=4000))
 
 
-def displacement_row(against: Path, spec_name, model, strength, level) -> dict:
-    """The displacement-controlled run on the same mesh at the small step, from the stored study ``against``."""
+def displacement_rows(against: Path) -> dict:
+    """The displacement-controlled runs at the small step of the stored study ``against`` (its CSV read once),
+    by (specimen, model, regularisation, level): their cost, status, peak and work (from their stored curves)."""
     import csv
 
-    rows = []
-    if (against / f"{NAME}.csv").exists():
-        with open(against / f"{NAME}.csv", newline="") as fh:
-            rows = [r for r in csv.DictReader(fh) if (r["specimen"], r["model"], r["regularisation"], r["level"])
-                    == (spec_name, model, strength, str(level)) and float(r["step_mm"]) == STEPS[0]]
-    stored = against / f"{NAME}_runs" / f"{case_name(spec_name, model, strength, level, STEPS[0])}.npz"
-    if not rows or not stored.exists():
+    against = Path(against)
+    if not (against / f"{NAME}.csv").exists():
         return {}
-    r, data = rows[0], np.load(stored)
-    return {"displacement_status": r["status"], "displacement_steps": int(r["steps"]),
-            "displacement_iterations": int(r["newton_iterations"]), "displacement_cutbacks": int(r["cutbacks"]),
-            "displacement_seconds": float(r["seconds"]), "displacement_peak_force_N": float(np.max(data["F"])),
-            "displacement_work_Nmm": M.work(data["u"], data["F"])}
+    with open(against / f"{NAME}.csv", newline="") as fh:
+        rows = [r for r in csv.DictReader(fh) if float(r["step_mm"]) == STEPS[0]]
+    out = {}
+    for r in rows:
+        key = (r["specimen"], r["model"], r["regularisation"], r["level"])
+        stored = against / f"{NAME}_runs" / f"{case_name(*key, STEPS[0])}.npz"
+        if key in out or not stored.exists():
+            continue
+        data = np.load(stored)
+        out[key] = {"displacement_status": r["status"], "displacement_steps": int(r["steps"]),
+                    "displacement_iterations": int(r["newton_iterations"]),
+                    "displacement_cutbacks": int(r["cutbacks"]), "displacement_seconds": float(r["seconds"]),
+                    "displacement_peak_force_N": float(np.max(data["F"])),
+                    "displacement_work_Nmm": M.work(data["u"], data["F"])}
+    return out
 
 
 def main_path(outdir: Path, against: Path, quick: bool = False, models=("I", "II"), specimens=tuple(SPECIMENS),
@@ -214,6 +220,7 @@ def main_path(outdir: Path, against: Path, quick: bool = False, models=("I", "II
     mode = "quick" if quick else "full"
     levels = LEVELS[mode]
     t_start, rows, summary = time.perf_counter(), [], {}
+    stepped = displacement_rows(against)
     with CurveWriter(outdir / f"{NAME}.csv", PATH_COLUMNS) as writer:
         for spec_name in specimens:
             for model in models:
@@ -235,7 +242,7 @@ def main_path(outdir: Path, against: Path, quick: bool = False, models=("I", "II
                                "final_force_fraction": float(F[-1] / F[i]), "band_width_mm": band.width,
                                "damaged_pieces": M.damaged_components(sp.plane_mesh, run.stiffness_loss, 0.9,
                                                                       min_fraction=0.05),
-                               **displacement_row(Path(against), spec_name, model, strength, level)}
+                               **stepped.get((spec_name, model, strength, str(level)), {})}
                         writer.write(**row)
                         rows.append(row)
                         np.savez_compressed(runs_dir / f"{case_name(spec_name, model, strength, level, 0)}.npz",

@@ -108,6 +108,12 @@ def fastest_in_rounds(jobs: list, first: list[dict], repeat_below: float = 1.0, 
     return rows
 
 
+def csv_row(row: dict) -> dict:
+    """A run's CSV columns: its COLUMNS and its forces at the reference displacements."""
+    return {**{k: row[k] for k in COLUMNS if k in row},
+            **{f"F_{u:g}": F for u, F in zip(REFERENCE, row["F"], strict=True)}}
+
+
 def time_at(rows: list[dict], error: float) -> float:
     """Runtime at ``error``, interpolated log-log between the levels that bracket it (NaN if none does)."""
     rows = sorted(rows, key=lambda r: r["dofs"])
@@ -141,15 +147,13 @@ def main(outdir: Path = RESULTS, quick: bool = False) -> dict:
                     row = {**job(), "element": element, "n_angular": n_angular, "n_radial": n_radial}
                     jobs.append(job)
                     runs.append(row)
-                    writer.write(**{k: row[k] for k in COLUMNS if k in row},
-                                 **{f"F_{u:g}": F for u, F in zip(REFERENCE, row["F"], strict=True)})
+                    writer.write(**csv_row(row))
                     print(f"[plate] {code:7s} {element} {n_angular:3d} x {n_radial:3d}: {row['dofs']:6d} DOF "
                           f"{row['seconds']:6.2f} s, error {100 * row['error']:.3f} %", flush=True)
     runs = fastest_in_rounds(jobs, runs)
     with CurveWriter(outdir / f"{NAME}.csv", COLUMNS) as writer:
         for row in runs:
-            writer.write(**{k: row[k] for k in COLUMNS if k in row},
-                         **{f"F_{u:g}": F for u, F in zip(REFERENCE, row["F"], strict=True)})
+            writer.write(**csv_row(row))
     at_target = {f"{code} {element}": time_at([r for r in runs if r["code"] == code and r["element"] == element],
                                               TARGET)
                  for code in ("abrakit", "felupe") for element in LEVELS}

@@ -335,7 +335,6 @@ class DirectSolver:
                 self.solves += 1
         raise LinearSolveError(f"{self.name} produced an inaccurate or non-finite solution (singular tangent?)")
 
-
     def resolve(self, rhs: np.ndarray) -> np.ndarray:
         """x with K_last x = rhs, K_last the matrix of the last factorisation (a chord step's solve: no
         assembly, no factorisation). Raises :class:`LinearSolveError` if nothing has been factorised yet."""
