@@ -136,7 +136,8 @@ class BarRun:
 
 def run_bar(material, n_elements: int, *, name: str = "", length: float = 20.0, area: float = 100.0,
             end_displacement: float = 0.04, step: float = 0.002, depth: float = 0.05, width: float = 1.0,
-            notch: float = 0.02, damage_scheme: str = "coupled", gauge: float | None = None) -> BarRun:
+            notch: float = 0.02, damage_scheme: str = "coupled", gauge: float | None = None,
+            damage_step: float | None = None, coupling: str = "staggered") -> BarRun:
     """Pull the bar with a weak spot to ``end_displacement`` (mm) in load steps of ``step`` (fraction of the path).
 
     Model I materials (with ``update_damage``) run through :class:`ModelISolver` (with ``damage_scheme``), or,
@@ -144,6 +145,9 @@ def run_bar(material, n_elements: int, *, name: str = "", length: float = 20.0, 
     :class:`~abrakit.damage.model_one_path.ModelIPathFollowingSolver`, steered by the opening of the middle
     ``gauge`` of the bar in steps of about ``step`` (load factor, then opening), through the snap-back until the
     force falls to 5 % of its peak or the end displacement is reached (``result``: the path follower's result);
+    with ``damage_step`` (N mm) instead, through the monolithic solver (``coupling="monolithic"``) under load
+    control to the first damage and then in steps of that damage dissipation
+    (:class:`~abrakit.damage.model_one_path.DamageControl`); ``coupling`` chooses the gauge run's solution of a step;
     any other material through :class:`abrakit.fem.Solver`, with ``external_work`` passed to ``update`` when it is
     a :class:`~abrakit.materials.ModelIIDamage` (rate limit, Eq. 6.97/6.103).
     """
@@ -160,13 +164,23 @@ def run_bar(material, n_elements: int, *, name: str = "", length: float = 20.0, 
     control = StepControl(initial=step, maximum=step, minimum=1e-4 * step)
     x = mesh.p[0, mesh.t].mean(axis=0)
     t0 = _time.perf_counter()
-    if gauge is not None:
-        check_range("gauge", gauge, 0.0, 1.0, low_open=True, high_open=True)
+    if gauge is not None or damage_step is not None:
+        if gauge is not None and damage_step is not None:
+            raise ValueError("give gauge (opening control) or damage_step (damage control), not both")
         if not hasattr(material, "update_damage"):
-            raise TypeError("gauge (path following) needs a Model I material (abrakit.materials.ModelIDamage)")
-        ends = [node_row_dofs(basis, "x", length * a, "x") for a in (0.5 + gauge / 2, 0.5 - gauge / 2)]
-        solver = ModelIPathFollowingSolver(kin, material, conditions, method="opening", opening=tuple(ends),
-                                           path=PathControl(initial=step, maximum=step, max_ratio=1.0))
+            raise TypeError("gauge, damage_step (path following) need a Model I material "
+                            "(abrakit.materials.ModelIDamage)")
+        if gauge is not None:
+            check_range("gauge", gauge, 0.0, 1.0, low_open=True, high_open=True)
+            ends = [node_row_dofs(basis, "x", length * a, "x") for a in (0.5 + gauge / 2, 0.5 - gauge / 2)]
+            solver = ModelIPathFollowingSolver(kin, material, conditions, method="opening", opening=tuple(ends),
+                                               path=PathControl(initial=step, maximum=step, max_ratio=1.0),
+                                               coupling=coupling)
+        else:
+            path = PathControl(initial=step, maximum=step, dissipation=check_positive("damage_step", damage_step),
+                               target_iterations=8, max_ratio=1.0, max_steps=5000)
+            solver = ModelIPathFollowingSolver(kin, material, conditions, method="dissipation", path=path,
+                                               coupling="monolithic")
         res = solver.run(progress=False, stop_force=0.05)
         c = res.curves
         return BarRun(name, n_elements, c["u_end"], c["F_end"], res.external_work, res.dissipated_energy, x, res.f,

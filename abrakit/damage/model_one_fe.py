@@ -89,6 +89,39 @@ def _jacobian_pattern(laplacian: ElementLaplacian):
     return pattern, row, np.flatnonzero(row == pattern.indices), values
 
 
+#: Generalised derivative of the Fischer-Burmeister function at a = b = 0.
+FB_CORNER = 1.0 - np.sqrt(0.5)
+
+
+def fischer_burmeister(f: np.ndarray, f_old: np.ndarray, phi: np.ndarray, r_d: float, f_min: float,
+                       mu: float = 0.0):
+    """The complementarity of Eq. (6.64) per element, ``H_i = a_i + b_i - sqrt(a_i^2 + b_i^2 + 2 mu^2)`` with
+    ``a = f_old - f`` (room left below the old value) and ``b = -Phi_d / r_d``, and its partial derivatives
+    ``(H, c_a, c_b)``: ``dH = -c_a df - c_b / r_d dPhi_d``. With ``mu = 0``, ``H = 0`` iff ``a >= 0, b >= 0,
+    a b = 0``; a smoothing ``mu > 0`` makes H differentiable at ``a = b = 0`` and its root ``a, b > 0, a b = mu^2``
+    (Kanzow 1996). At the floor ``f = f_min`` with ``Phi_d > 0`` the lower bound is active, ``H = 0`` and the row
+    reads ``df = 0`` (``c_a = 1``, ``c_b = 0``)."""
+    a, b = f_old - f, -phi / r_d
+    rho = np.sqrt(a * a + b * b + 2.0 * mu * mu)
+    H = a + b - rho
+    safe = np.where(rho > 0.0, rho, 1.0)
+    c_a = np.where(rho > 0.0, 1.0 - a / safe, FB_CORNER)
+    c_b = np.where(rho > 0.0, 1.0 - b / safe, FB_CORNER)
+    floor = (f <= f_min) & (b < 0.0)
+    H[floor], c_a[floor], c_b[floor] = 0.0, 1.0, 0.0
+    return H, c_a, c_b
+
+
+def indicator_jacobian_values(f: np.ndarray, psi0_bar: np.ndarray, laplacian: ElementLaplacian,
+                              beta: float) -> np.ndarray:
+    """``d Phi_d / d f = diag(Psibar0 - beta L f) - beta diag(f) L`` of Eq. (6.76) at fixed ``Psibar0``, as values
+    on the pattern of :func:`_jacobian_pattern` (L plus its diagonal)."""
+    _, row, diagonal, L_data = _jacobian_pattern(laplacian)
+    values = -beta * f[row] * L_data
+    values[diagonal] += psi0_bar - beta * (laplacian.matrix @ f)
+    return values
+
+
 def coupled_damage_function(f_old, psi0_bar, laplacian: ElementLaplacian, beta: float, r_d: float,
                             f_min: float, *, f_start=None, tol: float = 1e-9, max_iterations: int = 60
                             ) -> tuple[np.ndarray, int]:
@@ -113,34 +146,21 @@ def coupled_damage_function(f_old, psi0_bar, laplacian: ElementLaplacian, beta: 
     f_old = np.asarray(f_old, dtype=float)
     L = laplacian.matrix
     n = f_old.size
-    pattern, row, diagonal, L_data = _jacobian_pattern(laplacian)
-    corner = 1.0 - np.sqrt(0.5)  # generalised derivative of the FB function at a = b = 0
+    pattern, row, diagonal, _ = _jacobian_pattern(laplacian)
 
-    def fischer_burmeister(f):
-        a = f_old - f
-        b = (r_d - f * (psi0_bar - beta * (L @ f))) / r_d
-        rho = np.hypot(a, b)
-        H = a + b - rho
-        H[(f <= f_min) & (b < 0.0)] = 0.0  # at the floor f_min with Phi_d > 0: done (lower bound active)
-        return H, a, b, rho
+    def residual(f):
+        return fischer_burmeister(f, f_old, f * (psi0_bar - beta * (L @ f)) - r_d, r_d, f_min)
 
     f = f_old.copy() if f_start is None else np.clip(f_start, f_min, f_old)
-    H, a, b, rho = fischer_burmeister(f)
+    H, c_a, c_b = residual(f)
     error = float(np.max(np.abs(H), initial=0.0))
     for iteration in range(max_iterations + 1):
         if error <= tol:
             return f, iteration
         if iteration == max_iterations:
             break
-        safe = np.where(rho > 0.0, rho, 1.0)
-        c_a = np.where(rho > 0.0, 1.0 - a / safe, corner)
-        c_b = np.where(rho > 0.0, 1.0 - b / safe, corner)
-        # d Phi_d / d f = diag(Psibar0 - beta L f) - beta diag(f) L;  dH/df = -diag(c_a) - diag(c_b / r_d) dPhi_d/df
-        jacobian_phi = -beta * f[row] * L_data
-        jacobian_phi[diagonal] += psi0_bar - beta * (L @ f)
-        floor = (f <= f_min) & (b < 0.0)
-        c_a[floor], c_b[floor] = 1.0, 0.0  # rows of the elements held at f_min read -step_i = 0
-        values = -(c_b / r_d)[row] * jacobian_phi
+        # dH/df = -diag(c_a) - diag(c_b / r_d) dPhi_d/df
+        values = -(c_b / r_d)[row] * indicator_jacobian_values(f, psi0_bar, laplacian, beta)
         values[diagonal] -= c_a
         # rows with c_b = 0 (f = f_old, Phi_d < 0: outside the damage zone) read -step_i = -H_i = 0; solve the rest
         zone = (c_b != 0.0) | (H != 0.0)
@@ -153,11 +173,11 @@ def coupled_damage_function(f_old, psi0_bar, laplacian: ElementLaplacian, beta: 
         merit, t = 0.5 * float(H @ H), 1.0
         while True:  # Armijo on |H|^2 / 2, whose slope along the Newton step is -|H|^2
             trial = np.clip(f + t * step, f_min, f_old)
-            H_trial, a_t, b_t, rho_t = fischer_burmeister(trial)
+            H_trial, c_a_trial, c_b_trial = residual(trial)
             if 0.5 * float(H_trial @ H_trial) <= (1.0 - 2e-4 * t) * merit or t < 1e-6:
                 break
             t *= 0.5
-        f, H, a, b, rho = trial, H_trial, a_t, b_t, rho_t
+        f, H, c_a, c_b = trial, H_trial, c_a_trial, c_b_trial
         error = float(np.max(np.abs(H), initial=0.0))
     raise RuntimeError(f"coupled damage update did not converge in {max_iterations} Newton iterations "
                        f"(max |H| = {error:.3e})")

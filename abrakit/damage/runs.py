@@ -9,7 +9,7 @@ lives apart from the specimens so that the models may use the specimens (their d
 from __future__ import annotations
 
 import time
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
@@ -62,7 +62,7 @@ class _Stop(Exception):
 def run_specimen(specimen: Specimen, model: str, parameter: float, *, step: float = 0.002,
                  stop_fraction: float | None = 0.1, gauge: tuple[float, float] | None = None,
                  opening: tuple[np.ndarray, np.ndarray] | None = None, path: PathControl | None = None,
-                 material_options: dict | None = None) -> SpecimenRun:
+                 material_options: dict | None = None, damage_step: float | None = None) -> SpecimenRun:
     """Load ``specimen`` to its ``displacement`` in equal increments ``step`` (mm) with Model I or Model II.
 
     ``model="II"``: :func:`abrakit.damage.model_two_fe.run_model_two` with ``alpha = parameter`` (Table 7.2).
@@ -82,7 +82,12 @@ def run_specimen(specimen: Specimen, model: str, parameter: float, *, step: floa
     :meth:`Specimen.gauge`; ``path`` default: first load step 10 ``step``, opening steps at most 20 times the
     first), through any snap-back, until ``stop_fraction`` of the peak. ``opening=(dofs_plus, dofs_minus)``: the
     same with an opening of one's own (mean relative displacement of the two DOF sets), where no row of nodes
-    makes a gauge (the plate with a hole's polar mesh).
+    makes a gauge (the plate with a hole's polar mesh). ``damage_step`` (N mm, or N mm/mm in plane strain): follow
+    Model I by its damage dissipation instead, in steps of about this much, displacements, damage and load factor
+    solved in one Newton system (``coupling="monolithic"``, :class:`~abrakit.damage.model_one_path.DamageControl`;
+    ``path`` default: load steps of ``step`` up to the first damage). The damage dissipation grows in every
+    step that damages, through any snap-back; the sweeps of the gauge's staggered steps stop settling on fine meshes
+    (an element of the damage front toggling between loading and unloading).
 
     ``model="II"`` with ``path``: Model II under Crisfield's arc length over all unknowns (:func:`run_model_two`
     with ``method="arc-length"``; the rate limit on the magnitude of the boundary work), until ``stop_fraction``.
@@ -99,8 +104,10 @@ def run_specimen(specimen: Specimen, model: str, parameter: float, *, step: floa
     if (gauge is not None or opening is not None) and model != "I":
         raise ValueError(f"gauge, opening: path following by an opening is for Model I only, got model={model!r} "
                          "(Model II follows its path by arc length: path=PathControl(...))")
-    if gauge is not None and opening is not None:
-        raise ValueError("give gauge (heights) or opening (DOF sets), not both")
+    if damage_step is not None and model != "I":
+        raise ValueError(f"damage_step: damage control is for Model I only, got model={model!r}")
+    if sum(x is not None for x in (gauge, opening, damage_step)) > 1:
+        raise ValueError("give one of gauge (heights), opening (DOF sets) or damage_step, not several")
     if gauge is not None:
         opening = specimen.gauge(*gauge)
     steps = max(1, int(round(specimen.displacement / check_positive("step", step))))
@@ -117,6 +124,10 @@ def run_specimen(specimen: Specimen, model: str, parameter: float, *, step: floa
         return _follow(specimen, material, opening,
                        path or PathControl(initial=10 * h, maximum=10 * h, max_ratio=20.0, max_steps=20000),
                        stop_fraction)
+    if damage_step is not None:
+        path = path or PathControl(initial=h, maximum=h, max_ratio=1.0, target_iterations=8, max_steps=20000)
+        return _follow(specimen, material, None,
+                       replace(path, dissipation=check_positive("damage_step", damage_step)), stop_fraction)
     solver = ModelISolver(specimen.basis, material, specimen.dirichlet,
                           control=StepControl(initial=h, maximum=h, minimum=h * 1e-3))
     name, scale, last, peak = specimen.loaded, specimen.force_scale, [None], [0.0]
@@ -152,9 +163,14 @@ def _ended(F, stop_fraction, max_steps: int) -> tuple[str, str]:
 
 
 def _follow(specimen: Specimen, material, opening, path: PathControl, stop_fraction) -> SpecimenRun:
-    """Model I on ``specimen`` under path following by ``opening`` (DOF sets; see :func:`run_specimen`)."""
-    solver = ModelIPathFollowingSolver(specimen.basis, material, specimen.dirichlet, method="opening",
-                                       opening=opening, path=path, max_sweeps=400)
+    """Model I on ``specimen`` under path following by ``opening`` (DOF sets), or, with ``opening=None``, by the
+    damage dissipation ``path.dissipation`` per step (see :func:`run_specimen`)."""
+    if opening is None:
+        solver = ModelIPathFollowingSolver(specimen.basis, material, specimen.dirichlet, method="dissipation",
+                                           coupling="monolithic", path=path)
+    else:
+        solver = ModelIPathFollowingSolver(specimen.basis, material, specimen.dirichlet, method="opening",
+                                           opening=opening, path=path, max_sweeps=400)
     try:
         res = solver.run(stop_force=stop_fraction or 0.0, end=np.inf, progress=False)
         status, message = _ended(res.curves[f"F_{specimen.loaded}"], stop_fraction, solver.path.max_steps)

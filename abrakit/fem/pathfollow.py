@@ -241,6 +241,9 @@ class ArcLength:
 
 #: The constraints by their ``name`` (a resumed run rebuilds its constraint from the name saved in the checkpoint).
 CONSTRAINTS = {kind.name: kind for kind in (LoadFactorControl, DissipationControl, ArcLength, OpeningControl)}
+#: The ``constraint`` column of a path-followed run's curves (4: the damage dissipation of a monolithic Model I
+#: step, :class:`abrakit.damage.model_one_path.DamageControl`).
+CONSTRAINT_CODES = {"load factor": 0, "dissipation": 1, "arc length": 2, "opening": 3, "damage": 4}
 
 
 @dataclass(frozen=True)
@@ -419,10 +422,10 @@ class PathFollowingSolver(Solver):
             resume: bool = False) -> SolveResult:
         """Follow the path from λ = 0 until λ reaches ``end`` or, after the peak, the load-pair force |P| falls to
         ``stop_force`` times its peak (e.g. 0.01: until the specimen carries 1 % of its peak load), or
-        ``path.max_steps`` steps. Curves gain the columns ``constraint`` (0 load factor, 1 dissipation, 2 arc
-        length, 3 opening), ``v``, ``P`` and ``released`` (G of the step). ``output``, ``checkpoint_every`` and
-        ``resume`` as in :meth:`Solver.run`: a resumed run continues with the constraint, targets and counters of
-        its checkpoint and gives the curve of a run never stopped."""
+        ``path.max_steps`` steps. Curves gain the columns ``constraint`` (:data:`CONSTRAINT_CODES`: 0 load factor,
+        1 dissipation, 2 arc length, 3 opening, 4 damage), ``v``, ``P`` and ``released`` (G of the step).
+        ``output``, ``checkpoint_every`` and ``resume`` as in :meth:`Solver.run`: a resumed run continues with the
+        constraint, targets and counters of its checkpoint and gives the curve of a run never stopped."""
         check_range("stop_force", stop_force, 0.0, 1.0, high_open=True)
         check_range("checkpoint_every", checkpoint_every, 0, None)
         ctrl, kin = self.path, self.kin
@@ -436,7 +439,6 @@ class PathFollowingSolver(Solver):
             state, lam, u = saved["state"], saved["load_factor"], saved["u"]
         ctx0 = StepContext(0, lam, 0.0, lam * self.duration, 0.0, 0, u, u, state, np.zeros(kin.ndof))
         response, _, f_int, _, extra_K = self.evaluate(u, state, ctx0)
-        codes = {"load factor": 0, "dissipation": 1, "arc length": 2, "opening": 3}
         cutbacks, work, peak, first_step = 0, 0.0, 0.0, 1
         if self.method == "arc-length":
             constraint = ArcLength(ctrl.arc_length) if ctrl.arc_length else LoadFactorControl(ctrl.initial)
@@ -454,7 +456,7 @@ class PathFollowingSolver(Solver):
             recorder.last = (u, state, response, f_int)
             first_step, cutbacks, work, peak, v, P = c["step"] + 1, c["cutbacks"], c["work"], c["peak"], c["v"], c["P"]
             constraint = self._constraint(c["constraint"], c["tau"])
-            firsts = {CONSTRAINTS[name]: tau for name, tau in c["firsts"].items()}
+            firsts = {type(self._constraint(name, tau)): tau for name, tau in c["firsts"].items()}
             last_dlam = c["last_dlam"]
             if "previous_du" in arrays:
                 previous = (arrays["previous_du"], c["previous_dlam"])
@@ -502,7 +504,7 @@ class PathFollowingSolver(Solver):
                 v_new, P_new = self.load_pair(u_new, lam_new, f_new)
                 released = 0.5 * (P * (v_new - v) - v * (P_new - P))
                 step_work = 0.5 * (P + P_new) * (v_new - v)
-                softening = released > ctrl.switch * max(abs(step_work), 1e-300)
+                softening = self._softened(released, step_work)
                 if isinstance(constraint, LoadFactorControl) and previous is not None and softening:
                     constraint = self._limit_point(previous)     # a load-controlled step that softened may have
                     continue                                      # jumped a snap-back: redo it path-following
@@ -515,7 +517,7 @@ class PathFollowingSolver(Solver):
                 v, P = v_new, P_new
                 peak = max(peak, abs(P))
                 recorder.record(step, lam, u, f_int, response, state, iterations, residuals,
-                                constraint=codes[constraint.name], v=v, P=P, released=released)
+                                constraint=CONSTRAINT_CODES[constraint.name], v=v, P=P, released=released)
                 bar.update(1)
                 if on_step is not None:
                     on_step(recorder.result(cutbacks))
@@ -538,6 +540,11 @@ class PathFollowingSolver(Solver):
             bar.close()
             recorder.close()
         return recorder.result(cutbacks)
+
+    def _softened(self, released: float, step_work: float) -> bool:
+        """Whether a step softened the structure: it released more than ``path.switch`` times its work (a
+        load-controlled step that did is redone under path following, see :meth:`run`)."""
+        return released > self.path.switch * max(abs(step_work), 1e-300)
 
     def _constraint(self, name: str, tau: float):
         """The constraint called ``name`` with target ``tau`` (for a resumed run)."""
