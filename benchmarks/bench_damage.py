@@ -26,9 +26,9 @@ stress in effect); the default is plane strain with the forces of the 3 mm plate
 in ``benchmarks/results/damage_extruded/``.
 
 ``--control path`` follows every path through its snap-back instead (one run per mesh, the step adapts): Model I
-by the opening of a gauge across the band (double notch: 29 to 71 mm; sharp notch: the ligament row against the
-row nearest 1 mm above it; plate with a hole: the hole's nodes within 2 mm above the symmetry line against that
-line), Model II by Crisfield's arc length. Its rows add the work along the whole followed path
+by its damage dissipation, 1e-3 r_d V per step (displacements, damage and load factor in one Newton system,
+``abrakit.damage.model_one_path.DamageControl``), Model II by Crisfield's arc length. ``--models I`` reruns Model I
+and keeps the stored Model II rows. Its rows add the work along the whole followed path
 (``work_Nmm``: at 10 % of the peak almost all of it is dissipated), the smallest top displacement after the peak
 (below ``u_at_peak_mm`` where the path snaps back), and the steps, Newton iterations and seconds of the
 displacement-controlled run on the same mesh at the small step (read from ``--against``, default the stored
@@ -58,6 +58,7 @@ from abrakit.damage.runs import REGULARISATION, run_specimen
 from abrakit.damage.specimens import SPECIMENS, plot_field, specimen
 from abrakit.fem import PathControl
 from abrakit.io import CurveWriter, write_json
+from abrakit.materials import TABLE_7_1
 
 NAME = "damage"
 LEVELS = {"full": ("coarse", "medium", "fine"), "quick": (250, 500, 1000)}
@@ -147,41 +148,31 @@ def main(outdir: Path = RESULTS, quick: bool = False,
     return finish(outdir, records, summary)
 
 
-PATH_COLUMNS = ["specimen", "formulation", "model", "regularisation", "parameter", "level", "elements", "dofs",
-                "status", "steps", "newton_iterations", "cutbacks", "seconds", "peak_force_N", "u_at_peak_mm",
+PATH_COLUMNS = ["specimen", "formulation", "model", "control", "regularisation", "parameter", "level", "elements",
+                "dofs", "status", "steps", "newton_iterations", "cutbacks", "seconds", "peak_force_N", "u_at_peak_mm",
                 "smallest_u_after_peak_mm", "work_Nmm", "final_force_fraction", "band_width_mm", "damaged_pieces",
                 "displacement_status", "displacement_steps", "displacement_iterations", "displacement_cutbacks",
                 "displacement_seconds", "displacement_peak_force_N", "displacement_work_Nmm"]
-GAUGES = {"double_notched": (29.0, 71.0), "sharp_notch": (0.0, 1.0)}
-"""Model I's path-following gauges (mm): heights of the two node rows whose mean relative displacement is followed."""
-
-
-def crack_opening(sp) -> tuple[np.ndarray, np.ndarray]:
-    """The opening Model I follows on ``sp``: across :data:`GAUGES` where rows of nodes make a gauge; on the plate
-    with a hole (polar mesh, no rows) the mean y-displacement of the hole's nodes within 2 mm above the symmetry line
-    y = 0, where the crack starts, against the nodes on that line (held at u_y = 0)."""
-    if sp.name in GAUGES:
-        return sp.gauge(*GAUGES[sp.name])
-    x, y = sp.mesh.p[0], sp.mesh.p[1]
-    on_hole = np.abs(np.hypot(x, y) - sp.dimensions["hole_diameter"] / 2) < 1e-6
-    y_dofs = np.asarray(sp.basis.nodal_dofs)[1]
-    return y_dofs[on_hole & (y > 1e-9) & (y <= 2.0)], y_dofs[np.abs(y) <= 1e-9]
-
-
+PATH_CONTROLS = {"I": "damage", "II": "arc length"}
+"""How ``--control path`` follows each model: Model I by its damage dissipation (monolithic Newton), Model II by
+Crisfield's arc length."""
+#: Model I's damage dissipation per step, relative to r_d times the specimen's volume (about 200 steps to fracture)
+DAMAGE_STEP = 1e-3
 def follow_specimen(sp, model: str, parameter: float, step: float):
-    """One path-followed run (see the module docstring): Model I by :func:`crack_opening` in equal openings (the
-    opening of the first load step of ``step``), Model II by arc length (load-factor steps of 2 ``step`` /
-    displacement at first).
+    """One path-followed run (see the module docstring): Model I by its damage dissipation,
+    :data:`DAMAGE_STEP` times r_d times the specimen's volume per step (load steps of ``step`` up to the first
+    damage), Model II by arc length (load-factor steps of 2 ``step`` / displacement at first).
 
-    Model I's followed peak depends on the opening step: on the double notch (250 elements, β = 1) a first load
-    step of 10 ``step`` with openings growing to 20 times the first gives 6037 N, one of ``step`` with the same
-    growth 7883 N, equal openings of the first step 9564 N, against 10 494 N under displacement control at
-    ``step`` (which overshoots by the operator split's O(step) error). Large openings let the converged damage of
-    a step run ahead onto a branch where the bands unload; equal small openings are the choice here."""
+    Model I was followed by the opening of a gauge across the band in equal openings before (converged
+    staggered sweeps): its peak
+    depended on the opening step (double notch, 250 elements, beta = 1: 6037 / 7883 / 9564 N for a first step of
+    10 ``step`` growing, ``step`` growing, ``step`` equal, against 10 494 N under displacement control), and on
+    finer meshes the sweeps stopped settling (500 elements, beta = 0.1: failed before the peak). Damage control
+    grows in every damaging step and leaves no such choice; its 250-element peak is 9587 N."""
     h = step / sp.displacement
     if model == "I":
-        return run_specimen(sp, "I", parameter, step=step, stop_fraction=STOP_FRACTION, opening=crack_opening(sp),
-                            path=PathControl(initial=h, maximum=h, max_ratio=1.0, max_steps=20000))
+        tau = DAMAGE_STEP * TABLE_7_1["r_d"] * float(np.sum(sp.basis.dx))     # per mm in plane strain
+        return run_specimen(sp, "I", parameter, step=step, stop_fraction=STOP_FRACTION, damage_step=tau)
     return run_specimen(sp, "II", parameter, step=step, stop_fraction=STOP_FRACTION,
                         path=PathControl(initial=2 * h, maximum=2 * h, target_iterations=8, max_steps=4000))
 
@@ -219,9 +210,14 @@ def main_path(outdir: Path, against: Path, quick: bool = False, models=("I", "II
     runs_dir.mkdir(parents=True, exist_ok=True)
     mode = "quick" if quick else "full"
     levels = LEVELS[mode]
-    t_start, rows, summary = time.perf_counter(), [], {}
+    t_start, summary = time.perf_counter(), {}
+    # rows of the models not rerun are kept from the stored study (e.g. --models I after a change of Model I)
+    rows = [r for r in read_path_rows(outdir) if r["model"] not in models and r["specimen"] in specimens]
     stepped = displacement_rows(against)
     with CurveWriter(outdir / f"{NAME}.csv", PATH_COLUMNS) as writer:
+        for row in rows:
+            row.setdefault("control", PATH_CONTROLS[row["model"]])
+            writer.write(**row)
         for spec_name in specimens:
             for model in models:
                 for strength, parameter in REGULARISATION[model].items():
@@ -233,6 +229,7 @@ def main_path(outdir: Path, against: Path, quick: bool = False, models=("I", "II
                         band = M.band_width(sp.plane_mesh, run.stiffness_loss, 0.5, length=sp.band_length,
                                             mirror=sp.band_mirror)
                         row = {"specimen": spec_name, "formulation": formulation, "model": model,
+                               "control": PATH_CONTROLS[model],
                                "regularisation": strength, "parameter": parameter, "level": str(level),
                                "elements": sp.elements, "dofs": int(sp.basis.N), "status": run.status,
                                "steps": run.steps, "newton_iterations": run.iterations, "cutbacks": run.cutbacks,
@@ -256,23 +253,37 @@ def main_path(outdir: Path, against: Path, quick: bool = False, models=("I", "II
     return summary
 
 
-def reanalyse_path(outdir: Path) -> dict:
-    """``damage.json`` of a path-following study rebuilt from its ``damage.csv`` (e.g. of a study stopped early)."""
+def read_path_rows(outdir: Path) -> list[dict]:
+    """The rows of a path-following study's ``damage.csv`` with their numbers converted (none if it is missing)."""
     import csv
 
-    outdir = Path(outdir)
-    with open(outdir / f"{NAME}.csv", newline="") as fh:
+    path = Path(outdir) / f"{NAME}.csv"
+    if not path.exists():
+        return []
+    with open(path, newline="") as fh:
         raw = list(csv.DictReader(fh))
-    text = {"specimen", "formulation", "model", "regularisation", "level", "status", "displacement_status"}
+    text = {"specimen", "formulation", "model", "regularisation", "level", "status", "displacement_status",
+            "control"}
     counts = {"elements", "dofs", "steps", "newton_iterations", "cutbacks", "damaged_pieces", "displacement_steps",
               "displacement_iterations", "displacement_cutbacks"}
-    rows = [{k: v if k in text else int(float(v)) if k in counts else float(v) for k, v in r.items() if v != ""}
+    return [{k: v if k in text else int(float(v)) if k in counts else float(v) for k, v in r.items() if v != ""}
             for r in raw]
+
+
+def reanalyse_path(outdir: Path) -> dict:
+    """``damage.json`` of a path-following study rebuilt from its ``damage.csv`` (e.g. of a study stopped early)."""
+    outdir = Path(outdir)
+    rows = read_path_rows(outdir)
     levels = list(dict.fromkeys(r["level"] for r in rows))
     mode = "quick" if all(lv in map(str, LEVELS["quick"]) for lv in levels) else "full"
     return summarise_path(outdir, rows, {"mode": mode, "formulation": rows[0]["formulation"] if rows else "",
                                          "levels": levels, "wall_time_s": sum(r["seconds"] for r in rows),
                                          "against": "", "reanalysed": True})
+
+
+def _spread(values) -> float | None:
+    """:func:`abrakit.damage.metrics.relative_spread` of a case's runs so far (None before its second run)."""
+    return M.relative_spread(values) if len(values) > 1 else None
 
 
 def summarise_path(outdir: Path, rows: list[dict], meta: dict) -> dict:
@@ -282,10 +293,10 @@ def summarise_path(outdir: Path, rows: list[dict], meta: dict) -> dict:
     cases = {}
     for r in rows:
         cases.setdefault(f"{r['specimen']}/{r['model']}/{r['regularisation']}", []).append(r)
-    summary = {**meta, "control": "path", "stop_fraction": STOP_FRACTION, "gauges_mm": GAUGES, "runs": len(rows),
+    summary = {**meta, "control": "path", "stop_fraction": STOP_FRACTION, "damage_step": DAMAGE_STEP, "runs": len(rows),
                "date": datetime.datetime.now().isoformat(timespec="seconds"), "machine": platform.platform(),
-               "cases": {key: {"peak_spread": M.relative_spread([r["peak_force_N"] for r in case]),
-                               "work_spread": M.relative_spread([r["work_Nmm"] for r in case]),
+               "cases": {key: {"peak_spread": _spread([r["peak_force_N"] for r in case]),
+                               "work_spread": _spread([r["work_Nmm"] for r in case]),
                                "snaps_back": any(r["smallest_u_after_peak_mm"] < r["u_at_peak_mm"] for r in case),
                                "steps": sum(r["steps"] for r in case), "seconds": sum(r["seconds"] for r in case),
                                "cutbacks": sum(r["cutbacks"] for r in case),

@@ -35,23 +35,19 @@ def test_benchmark_quick_mode_writes_its_results(name, tmp_path):
     assert importlib.util.find_spec("matplotlib")
 
 
-def test_bench_damage_follows_model_one_by_an_opening_on_every_specimen():
-    """The path-following gauges of bench_damage: two rows across the band where the mesh has rows; on the plate
-    with a hole (polar mesh) the hole's nodes within 2 mm above the symmetry line against that line, on every
-    formulation."""
-    import numpy as np
-
-    from abrakit.damage.specimens import SPECIMENS, specimen
+def test_bench_damage_path_rows_read_back_with_their_types(tmp_path):
+    """bench_damage --control path keeps the rows of models it does not rerun from its CSV: read back, they are
+    the numbers and texts that were written."""
+    from abrakit.io import CurveWriter
 
     bench = run.load(run.discover()["damage"])
-    for name in SPECIMENS:
-        for formulation in ("plane_strain", "extruded"):
-            sp = specimen(name, 250, formulation=formulation)
-            plus, minus = bench.crack_opening(sp)
-            assert plus.size and minus.size and not np.intersect1d(plus, minus).size, (name, formulation)
-            y = sp.basis.doflocs[1]
-            assert np.all(y[plus] > y[minus].max()), (name, formulation)
-            if name == "plate_with_hole":
-                x = sp.basis.doflocs[0]
-                assert np.allclose(np.hypot(x[plus], y[plus]), 10.0) and np.all(y[plus] <= 2.0)
-                assert np.all(y[minus] == 0.0)
+    row = {name: 1.5 for name in bench.PATH_COLUMNS}
+    row.update(specimen="double_notched", formulation="plane_strain", model="II", control="arc length",
+               regularisation="weak", level="250", status="fractured", displacement_status="fractured", steps=12,
+               elements=250, dofs=594, newton_iterations=40, cutbacks=1, damaged_pieces=1, displacement_steps=30,
+               displacement_iterations=90, displacement_cutbacks=3)
+    with CurveWriter(tmp_path / f"{bench.NAME}.csv", bench.PATH_COLUMNS) as writer:
+        writer.write(**row)
+    (back,) = bench.read_path_rows(tmp_path)
+    assert back == row
+    assert bench.read_path_rows(tmp_path / "missing") == []

@@ -14,7 +14,7 @@ from abrakit.damage.laplacian import (
 )
 from abrakit.damage.localisation import localisation_study, run_bar
 from abrakit.damage.model_one_fe import ModelIResult, ModelISolver, solve_model_one
-from abrakit.damage.model_one_path import ModelIPathFollowingSolver, ModelIPathResult
+from abrakit.damage.model_one_path import DamageControl, ModelIPathFollowingSolver, ModelIPathResult
 from abrakit.damage.model_two_fe import ModelTwoResult, run_model_two
 from abrakit.damage.runs import SpecimenRun, run_specimen
 from abrakit.damage.specimens import Specimen, specimen
@@ -34,6 +34,7 @@ __all__ = [
     "ModelIResult",
     "ModelISolver",
     "solve_model_one",
+    "DamageControl",
     "ModelIPathFollowingSolver",
     "ModelIPathResult",
     "ModelTwoResult",
