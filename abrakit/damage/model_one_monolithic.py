@@ -44,11 +44,20 @@ class PointSensitivities:
     dpsi_deps: np.ndarray
 
 
-def point_sensitivities(material, state_old: dict, eps: np.ndarray, f: np.ndarray,
-                        components) -> PointSensitivities:
+def point_sensitivities(material, state_old: dict, eps: np.ndarray, f: np.ndarray, components,
+                        elements=None) -> PointSensitivities:
     """Central differences of the Model I stress and driving energy ``Psi0+`` at every point with respect to its
     element's damage function ``f`` (``(nel,)``) and to each active strain component, from ``state_old`` (the
-    plastic state at the start of the step). Every point is perturbed at once (the update is local)."""
+    plastic state at the start of the step). Every point is perturbed at once (the update is local).
+    ``elements``: compute them on these elements only (zero elsewhere): a monolithic step needs them on the
+    elements whose f is an unknown, a few of the mesh's."""
+    if elements is not None:
+        part = point_sensitivities(material, {k: v[elements] for k, v in state_old.items()}, eps[elements],
+                                   f[elements], components)
+        full = PointSensitivities(np.zeros(eps.shape), np.zeros(eps.shape[:2]), np.zeros(eps.shape))
+        for name in ("dstress_df", "dpsi_df", "dpsi_deps"):
+            getattr(full, name)[elements] = getattr(part, name)
+        return full
     nqp = eps.shape[1]
 
     def update(f_values, strain):

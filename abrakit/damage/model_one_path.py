@@ -363,8 +363,6 @@ class ModelIPathFollowingSolver(PathFollowingSolver):
         linearised constraint, ``a·δu_I + b δλ = -g``; under :class:`DamageControl` ``dD/df·δf = -g``, or, at the
         damage onset (``onset`` = the element about to damage), ``δΦ_onset = -Φ_onset``."""
         model, free, kin = self.model, self.constraints.free, self.kin
-        sens = point_sensitivities(model, trial, self.assembler.strain(u), f, kin.components)
-        K_uf, G, dpsibar_df = coupling_blocks(self.assembler, sens)
         lap_f = np.zeros_like(f) if self.laplacian is None or model.beta == 0.0 else self.laplacian.matrix @ f
         phi = f * (psi0_bar - model.beta * lap_f) - model.r_d
         if isinstance(constraint, DamageControl):
@@ -373,6 +371,9 @@ class ModelIPathFollowingSolver(PathFollowingSolver):
             near = ~self._active(H, c_b) & (f >= f_old) & (phi >= -NEAR_SURFACE * self.damage_tol * model.r_d)
             c_a, c_b = np.where(near, 0.0, c_a), np.where(near, 1.0, c_b)
         zone = np.flatnonzero(self._active(H, c_b))
+        needed = zone if onset is None else np.union1d(zone, [onset])   # the blocks' rows and columns used below
+        sens = point_sensitivities(model, trial, self.assembler.strain(u), f, kin.components, needed)
+        K_uf, G, dpsibar_df = coupling_blocks(self.assembler, sens)
         if self.laplacian is not None and model.beta > 0.0:     # dΦ/df, then dH = -c_a df - c_b / r_d dΦ
             pattern, _, diagonal, _ = _jacobian_pattern(self.laplacian)
             values = indicator_jacobian_values(f, psi0_bar, self.laplacian, model.beta)
