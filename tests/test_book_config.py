@@ -62,3 +62,14 @@ def test_every_figure_of_the_book_has_a_caption():
                     r"^mystnb:\n  figure:\n    caption: \|\n      \S.+\n", body, re.M):
                 missing.append(f"{chapter.name}: {body.splitlines()[0][:60]}")
     assert missing == [], missing
+
+
+def test_no_chapter_contains_control_characters():
+    """A TeX command written into a Python string without a raw prefix turns into a control character (``\\beta``
+    into a backspace and "eta", ``\\varepsilon`` into a vertical tab): no chapter may contain one."""
+    import re
+
+    found = [f"{chapter.name}:{number}" for chapter in sorted(BOOK.glob("*.md"))
+             for number, line in enumerate(chapter.read_text().splitlines(), 1)
+             if re.search(r"[\x00-\x08\x0b\x0c\x0e-\x1f\t]", line)]
+    assert found == [], found
