@@ -47,9 +47,8 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 import scipy.sparse as sp
-import scipy.sparse.linalg as spla
 
-from ..fem.linsolve import LinearSolveError
+from ..fem.linsolve import DirectSolver, LinearSolveError
 from ..fem.pathfollow import ConstraintSingular, LinearConstraint, LoadFactorControl, PathFollowingSolver, PathPoint
 from ..fem.solver import NewtonFailure, StepContext
 from ..validation import check_option, check_range
@@ -181,6 +180,7 @@ class ModelIPathFollowingSolver(PathFollowingSolver):
         if self.coupling == "monolithic" and self.method == "arc-length":
             raise ValueError("coupling='monolithic' needs a linear constraint: method='opening' or 'dissipation', "
                              "got method='arc-length'")
+        self._coupled_solver = DirectSolver("auto")     # the bordered (u, f, λ) system of a monolithic step
         self._reset()
 
     def constrained_newton(self, constraint, u0, lam0, state_old, f_int0, step, start, previous=None, guess=None):
@@ -401,9 +401,9 @@ class ModelIPathFollowingSolver(PathFollowingSolver):
                           [sp.csr_matrix(a[None, :]), None if a_f is None or zone.size == 0 else
                            sp.csr_matrix(a_f[None, :]), sp.csr_matrix([[b]])]], format="csc")
         rhs = np.concatenate([-R, -H[zone], [-g]])
-        try:
-            x = spla.splu(system).solve(rhs)
-        except RuntimeError as exc:                                    # exactly singular
+        try:         # its own solver: the pattern changes with the zone, and K_II's keeps its analysis
+            x = self._coupled_solver.solve(system.tocsr(), rhs)
+        except LinearSolveError as exc:
             raise NewtonFailure(f"singular monolithic Jacobian: {exc}", residuals) from exc
         if not np.all(np.isfinite(x)):
             raise NewtonFailure("non-finite monolithic correction", residuals)
