@@ -33,7 +33,7 @@ from abrakit.io import CurveWriter, read_json, write_json
 
 NAME = "double_notch_shape"
 BETA, STEP, STOP = 1.0, 0.002, STOP_FRACTION
-CASES = (("plane_strain", "coarse"), ("plane_strain", "medium"), ("extruded", "coarse"), ("extruded", "medium"))
+CASES = (("plane_strain", "coarse"), ("extruded", "coarse"), ("plane_strain", "medium"), ("extruded", "medium"))
 QUICK_CASES = (("plane_strain", "coarse"), ("extruded", "coarse"))
 COLUMNS = ("control", "formulation", "level", "elements", "peak_N", "u_at_peak_mm", "smallest_u_after_peak_mm",
            "steps", "cutbacks", "seconds", "status", "bands_meet", "largest_gap_mm", "dissipated_Nmm")
@@ -96,9 +96,15 @@ def main(outdir: Path = RESULTS, quick: bool = False, controls=("displacement", 
             print(f"[double notch] {control:12s} {formulation:12s} {level:6s}: peak {row['peak_N']:.0f} N, "
                   f"{row['steps']} steps, {row['cutbacks']} cutbacks, bands meet: {meet} (largest gap {gap:.1f} mm)",
                   flush=True)
+            data = save(outdir, rows, maps, curves, quick)      # after every run: a stopped study keeps its runs
+    return data
+
+
+def save(outdir: Path, rows, maps, curves, quick: bool) -> dict:
+    """``double_notch_shape.json`` and ``.png`` of the runs so far."""
     data = {"rows": rows, "beta": BETA, "step_mm": STEP, "stop_fraction": STOP, "damage_step": DAMAGE_STEP,
-            "quick": quick,
-            "curves": {label: {"u": u.tolist(), "F": F.tolist()} for label, u, F in curves},
+            "quick": quick, "curves": {label: {"u": np.asarray(u).tolist(), "F": np.asarray(F).tolist()}
+                                       for label, u, F in curves},
             "date": time.strftime("%Y-%m-%d %H:%M")}
     write_json(outdir / f"{NAME}.json", data)
     plot(maps, curves, outdir / f"{NAME}.png")
@@ -108,7 +114,8 @@ def main(outdir: Path = RESULTS, quick: bool = False, controls=("displacement", 
 def plot(maps, curves, path):
     import matplotlib.pyplot as plt
 
-    fig, axes = plt.subplots(1, len(maps) + 1, figsize=(3.2 * (len(maps) + 1), 5.5))
+    fig, axes = plt.subplots(1, len(maps) + 1, figsize=(3.2 * (len(maps) + 1), 5.5), squeeze=False)
+    axes = axes[0]
     for ax, (label, specimen, loss) in zip(axes[1:], maps, strict=True):
         plot_field(specimen, loss, ax=ax, colorbar=False)
         ax.set_title(label, fontsize=8)
