@@ -47,6 +47,7 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 import scipy.sparse as sp
+import scipy.sparse.linalg as spla
 
 from ..fem.linsolve import DirectSolver, LinearSolveError
 from ..fem.pathfollow import ConstraintSingular, LinearConstraint, LoadFactorControl, PathFollowingSolver, PathPoint
@@ -403,8 +404,14 @@ class ModelIPathFollowingSolver(PathFollowingSolver):
         rhs = np.concatenate([-R, -H[zone], [-g]])
         try:         # its own solver: the pattern changes with the zone, and K_II's keeps its analysis
             x = self._coupled_solver.solve(system.tocsr(), rhs)
-        except LinearSolveError as exc:
-            raise NewtonFailure(f"singular monolithic Jacobian: {exc}", residuals) from exc
+        except LinearSolveError:
+            # ill-conditioned where an element's derivatives nearly vanish (its smoothed H at the kink): the solver
+            # layer's residual check refuses the solution, SuperLU's unchecked one is a usable Newton direction
+            # that the line search judges (double notch, 4141 elements, the first damage-controlled step)
+            try:
+                x = spla.splu(system.tocsc()).solve(rhs)
+            except RuntimeError as exc:                                # exactly singular
+                raise NewtonFailure(f"singular monolithic Jacobian: {exc}", residuals) from exc
         if not np.all(np.isfinite(x)):
             raise NewtonFailure("non-finite monolithic correction", residuals)
         df = np.zeros(f.size)
