@@ -25,14 +25,14 @@ softening displacement (peak to half the peak force) and the largest alpha_p; al
 stress in effect); the default is plane strain with the forces of the 3 mm plate. The stored extruded study is
 in ``benchmarks/results/damage_extruded/``.
 
-``--control path`` follows every path through its snap-back instead (one run per mesh, the step adapts): Model I
-by its damage dissipation, 1e-3 r_d V per step (displacements, damage and load factor in one Newton system,
+``--control path`` follows every path through its snap-back instead (one run per mesh, the step adapts): Model I by
+its damage dissipation, 1e-3 r_d V per step (displacements, damage and load factor in one Newton system,
 ``abrakit.damage.model_one_path.DamageControl``), Model II by Crisfield's arc length. ``--models I`` reruns Model I
-and keeps the stored Model II rows. Its rows add the work along the whole followed path
-(``work_Nmm``: at 10 % of the peak almost all of it is dissipated), the smallest top displacement after the peak
-(below ``u_at_peak_mm`` where the path snaps back), and the steps, Newton iterations and seconds of the
-displacement-controlled run on the same mesh at the small step (read from ``--against``, default the stored
-``damage.json`` of the same mode). The curve metrics against the reference take the displacement-controlled
+and keeps the stored Model II rows (``--specimens`` likewise keeps the other specimens' rows). Its rows add the work
+along the whole followed path (``work_Nmm``: at 10 % of the peak almost all of it is dissipated), the smallest top
+displacement after the peak (below ``u_at_peak_mm`` where the path snaps back), and the steps, Newton iterations and
+seconds of the displacement-controlled run on the same mesh at the small step (read from ``--against``, default the
+stored ``damage.json`` of the same mode). The curve metrics against the reference take the displacement-controlled
 meaning only (a followed path is not a function of u), so they are left out. Stored in
 ``benchmarks/results/damage_path/`` (``damage_path_extruded/``); its ``damage.json`` is written after every run
 (``--control path --reanalyse`` rebuilds it from ``damage.csv``).
@@ -164,11 +164,11 @@ def follow_specimen(sp, model: str, parameter: float, step: float):
     damage), Model II by arc length (load-factor steps of 2 ``step`` / displacement at first).
 
     Model I was followed by the opening of a gauge across the band in equal openings before (converged
-    staggered sweeps): its peak
-    depended on the opening step (double notch, 250 elements, beta = 1: 6037 / 7883 / 9564 N for a first step of
-    10 ``step`` growing, ``step`` growing, ``step`` equal, against 10 494 N under displacement control), and on
-    finer meshes the sweeps stopped settling (500 elements, beta = 0.1: failed before the peak). Damage control
-    grows in every damaging step and leaves no such choice; its 250-element peak is 9587 N."""
+    staggered sweeps): its peak depended on the opening step (double notch, 250 elements, beta = 1: 6037 / 7883 /
+    9564 N for a first step of 10 ``step`` growing, ``step`` growing, ``step`` equal, against 10 494 N under
+    displacement control), and on finer meshes the sweeps stopped settling (500 elements, beta = 0.1: failed
+    before the peak). Damage control grows in every damaging step and leaves no such choice; its 250-element peak
+    is 9587 N."""
     h = step / sp.displacement
     if model == "I":
         tau = DAMAGE_STEP * TABLE_7_1["r_d"] * float(np.sum(sp.basis.dx))     # per mm in plane strain
@@ -211,8 +211,8 @@ def main_path(outdir: Path, against: Path, quick: bool = False, models=("I", "II
     mode = "quick" if quick else "full"
     levels = LEVELS[mode]
     t_start, summary = time.perf_counter(), {}
-    # rows of the models not rerun are kept from the stored study (e.g. --models I after a change of Model I)
-    rows = [r for r in read_path_rows(outdir) if r["model"] not in models and r["specimen"] in specimens]
+    # rows not rerun are kept from the stored study (e.g. --models I after a change of Model I)
+    rows = [r for r in read_path_rows(outdir) if not (r["model"] in models and r["specimen"] in specimens)]
     stepped = displacement_rows(against)
     with CurveWriter(outdir / f"{NAME}.csv", PATH_COLUMNS) as writer:
         for row in rows:
