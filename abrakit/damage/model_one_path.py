@@ -44,6 +44,7 @@ from __future__ import annotations
 import time as _time
 from collections.abc import Sequence
 from dataclasses import dataclass, replace
+from typing import NamedTuple
 
 import numpy as np
 import scipy.sparse as sp
@@ -52,6 +53,7 @@ import scipy.sparse.linalg as spla
 from ..fem.linsolve import DirectSolver, LinearSolveError
 from ..fem.pathfollow import ConstraintSingular, LinearConstraint, LoadFactorControl, PathFollowingSolver, PathPoint
 from ..fem.solver import NewtonFailure, StepContext
+from ..materials.model_one import damage_indicator
 from ..validation import check_option, check_range
 from .laplacian import ElementLaplacian
 from .model_one_fe import (
@@ -88,6 +90,25 @@ SMOOTHING = 0.1
 #: Elements whose smoothed complementarity reacts to their indicator by less than this (``c_b``) and whose H is
 #: below 1e-3 ``damage_tol`` keep their f in a monolithic correction.
 ACTIVE_DERIVATIVE = 1e-8
+
+
+class _Iterate(NamedTuple):
+    """What a monolithic Newton iteration reads at an iterate (u, f, λ) (:meth:`ModelIPathFollowingSolver._at_iterate`):
+    the material response and the residual of the trial state, the element driving energies ``psi0_bar``, ``L f``,
+    the indicator ``phi`` of Eq. (6.76) and the complementarity ``H`` with its derivatives ``c_a``, ``c_b``."""
+
+    response: object
+    residual: np.ndarray
+    f_int: np.ndarray
+    scale: float
+    extra_K: list
+    psi0_bar: np.ndarray
+    lap_f: np.ndarray
+    phi: np.ndarray
+    H: np.ndarray
+    c_a: np.ndarray
+    c_b: np.ndarray
+    trial: dict
 
 
 @dataclass
@@ -235,7 +256,9 @@ class ModelIPathFollowingSolver(PathFollowingSolver):
     def _monolithic_newton(self, constraint, u0, lam0, state_old, f_int0, step, start, previous):
         """One path-following step with u, the damage functions and λ solved together (``coupling="monolithic"``).
 
-        Predictor: the frozen-damage tangent step of the staggered scheme. Corrector: semismooth Newton on
+        Predictor: under a linear constraint the frozen-damage tangent step of the staggered scheme; under
+        :class:`DamageControl` the converged point itself (the step's damage is not known before the corrector).
+        Corrector: semismooth Newton on
         ``[R_u; H; g] = 0`` with the Jacobian ::
 
             [ K_II            K_uf                    -q             ] [δu_I]   [-R_u]
@@ -244,9 +267,9 @@ class ModelIPathFollowingSolver(PathFollowingSolver):
 
         (``∂Φ/∂f = diag(Psibar0 - β L f + f ∂Psibar0/∂f) - β diag(f) L``), restricted to the elements where H
         or its derivative c_b is not negligible (:meth:`_active`; the others keep their f); H is smoothed at its
-        kink (:data:`SMOOTHING`). The iterates of f stay above ``f_min`` but
-        may pass ``f^m`` (the complementarity pulls them back): clipping them at ``f^m`` switched elements of the
-        damage front off and on from one iteration to the next. A backtracking line search on
+        kink (:data:`SMOOTHING`). The iterates of f stay above ``f_min`` but may pass ``f^m`` (the complementarity
+        pulls them back): clipping them at ``f^m`` switched elements of the damage front off and on from one
+        iteration to the next. A backtracking line search on
         ``(|R_u|/tol)^2 + (|H|/damage_tol)^2`` (plus the damage or onset constraint's, scaled by its tolerance)
         breaks the cycles the non-smooth corner of H can still cause. Converged when the residual force meets
         the Newton tolerance, ``max |H| <= damage_tol`` and the constraint holds."""
@@ -265,39 +288,37 @@ class ModelIPathFollowingSolver(PathFollowingSolver):
             du, dlam = self._bordered(constraint, point, K_II, None, residuals)
             lam = lam0 + dlam
             u = self._at(u0[free] + du, lam, u0)
-        at = self._coupled_point(u, f, lam, (step, u0, lam0, state_old, f_int0, f_old), 1, residuals)
-        onset = self._onset(at, f, f_old) if damage else None
+        step_data = (step, u0, lam0, state_old, f_int0, f_old)
+        at = self._at_iterate(u, f, lam, step_data, 1, residuals)
+        onset = self._onset(at) if damage else None
         for k in range(1, opts.max_iterations + 1):
-            response, residual, f_int, scale, extra_K, psi0_bar, lap_f, H, c_a, c_b, trial = at
-            norm, h_error = float(np.max(np.abs(residual[free]), initial=0.0)), float(np.max(np.abs(H), initial=0.0))
+            norm = float(np.max(np.abs(at.residual[free]), initial=0.0))
             residuals.append(norm)
-            tol = opts.residual_tol * scale + opts.absolute_force
-            v, P = self.load_pair(u, lam, f_int)
+            tol = opts.residual_tol * at.scale + opts.absolute_force
+            v, P = self.load_pair(u, lam, at.f_int)
             point = PathPoint(u0, lam0, v0, P0, u, lam, v, P, None, self.u_hat, self.f_hat, free, previous)
             if onset is not None:
-                satisfied = abs(self._onset_indicator(at, f, onset)) <= self.damage_tol
+                satisfied = abs(at.phi[onset] / self.model.r_d) <= self.damage_tol
             elif damage:
                 satisfied = abs(constraint.residual(f, f_old)) <= constraint.tolerance()
             else:
-                satisfied = constraint.satisfied(point, scale)
-            if norm <= tol and h_error <= self.damage_tol and satisfied:
+                satisfied = constraint.satisfied(point, at.scale)
+            if norm <= tol and float(np.max(np.abs(at.H), initial=0.0)) <= self.damage_tol and satisfied:
                 self.sweeps.append(1)
                 self._effort = k
-                state = self._damaged_state(response.state, state_old, f, lap_f)
+                state = self._damaged_state(at.response.state, state_old, f, at.lap_f)
                 self._step_damage = float(self._damage_weights() @ (state["d"][:, 0] - state_old["d"][:, 0]))
-                return u, lam, replace(response, state=state), f_int, extra_K, k, residuals
+                return u, lam, replace(at.response, state=state), at.f_int, at.extra_K, k, residuals
             try:
-                point.K, K_II = self.tangent(response, extra_K, u)
+                point.K, K_II = self.tangent(at.response, at.extra_K, u)
             except LinearSolveError as exc:
                 raise NewtonFailure(str(exc), residuals) from exc
-            du, df, dlam = self._coupled_correction(constraint, point, K_II, residual[free], H, c_a, c_b, f,
-                                                    psi0_bar, trial, u, f_old, onset, residuals)
+            du, df, dlam = self._coupled_correction(constraint, point, K_II, at, f, u, f_old, onset, residuals)
             current, best = self._merit(at, f, tol, constraint, onset, f_old), None
             for t in 0.5 ** np.arange(MAX_BACKTRACKS + 1):
                 trial_u = self._at(u[free] + t * du, lam + t * dlam, u)
                 trial_f = np.maximum(f + t * df, self.model.f_min)
-                candidate = self._coupled_point(trial_u, trial_f, lam + t * dlam,
-                                                (step, u0, lam0, state_old, f_int0, f_old), k + 1, residuals)
+                candidate = self._at_iterate(trial_u, trial_f, lam + t * dlam, step_data, k + 1, residuals)
                 value = self._merit(candidate, trial_f, tol, constraint, onset, f_old)
                 if best is None or value < best[0]:
                     best = (value, trial_u, trial_f, lam + t * dlam, candidate)
@@ -309,38 +330,30 @@ class ModelIPathFollowingSolver(PathFollowingSolver):
     def _merit(self, at, f, tol: float, constraint, onset, f_old) -> float:
         """The line search's ``(|R_u|/tol)^2 + (|H|/damage_tol)^2``, plus the constraint a correction does not keep
         by linearity (the onset's indicator) or does not meet at the step's start (the damage dissipation)."""
-        value = (float(np.sum(at[1][self.constraints.free] ** 2)) / tol**2
-                 + float(np.sum(at[7] ** 2)) / self.damage_tol**2)
+        value = (float(np.sum(at.residual[self.constraints.free] ** 2)) / tol**2
+                 + float(np.sum(at.H ** 2)) / self.damage_tol**2)
         if onset is not None:
-            value += (self._onset_indicator(at, f, onset) / self.damage_tol) ** 2
+            value += (at.phi[onset] / (self.model.r_d * self.damage_tol)) ** 2
         elif isinstance(constraint, DamageControl):
             value += (constraint.residual(f, f_old) / constraint.tolerance()) ** 2
         return value
 
-    def _onset_indicator(self, at, f, onset: int) -> float:
-        """``Phi_d / r_d`` of the onset element at an iterate (``at`` from :meth:`_coupled_point`)."""
-        model, psi0_bar, lap_f = self.model, at[5], at[6]
-        return float(f[onset] * (psi0_bar[onset] - model.beta * lap_f[onset]) - model.r_d) / model.r_d
-
-    def _onset(self, at, f, f_old) -> int | None:
+    def _onset(self, at: _Iterate) -> int | None:
         """The element about to damage, when a :class:`DamageControl` step starts with no element on its damage
         surface (to within ``NEAR_SURFACE * damage_tol``): the one nearest to it. That step then only loads the
         structure until this element reaches its surface (and damages none), the next one damages."""
-        psi0_bar, lap_f, H, c_b = at[5], at[6], at[7], at[9]
-        model = self.model
-        phi = f * (psi0_bar - model.beta * lap_f) - model.r_d
-        if np.any(self._active(H, c_b)) or np.any(phi >= -NEAR_SURFACE * self.damage_tol * model.r_d):
+        if np.any(self._active(at.H, at.c_b)) or np.any(at.phi >= -NEAR_SURFACE * self.damage_tol * self.model.r_d):
             return None
-        return int(np.argmax(phi))
+        return int(np.argmax(at.phi))
 
     def _active(self, H, c_b) -> np.ndarray:
         """The elements whose f is an unknown of a monolithic correction (see :data:`ACTIVE_DERIVATIVE`)."""
         return (c_b > ACTIVE_DERIVATIVE) | (np.abs(H) > 1e-3 * self.damage_tol)
 
-    def _coupled_point(self, u, f, lam, step_data, k, residuals):
+    def _at_iterate(self, u, f, lam, step_data, k, residuals) -> _Iterate:
         """Everything the monolithic Newton reads at an iterate (u, f, λ): the material response at the damage
-        ``f`` from the plastic state at the start of the step, the residual, the driving energies, ``L f`` and the
-        complementarity ``(H, c_a, c_b)``."""
+        ``f`` from the plastic state at the start of the step, the residual, the driving energies, ``L f``, the
+        indicator and the complementarity (:class:`_Iterate`)."""
         step, u0, lam0, state_old, f_int0, f_old = step_data
         model = self.model
         trial = {**state_old, "d": np.repeat(-np.log(f)[:, None], self.kin.nqp, axis=1)}
@@ -352,20 +365,18 @@ class ModelIPathFollowingSolver(PathFollowingSolver):
             raise NewtonFailure(f"material update failed: {exc}", residuals) from exc
         psi0_bar = element_mean(response.state["psi0"], self.kin.dx)
         lap_f = np.zeros_like(f) if self.laplacian is None or model.beta == 0.0 else self.laplacian.matrix @ f
-        H, c_a, c_b = fischer_burmeister(f, f_old, f * (psi0_bar - model.beta * lap_f) - model.r_d, model.r_d,
-                                         model.f_min, SMOOTHING * self.damage_tol)
+        phi = damage_indicator(f, psi0_bar, lap_f, model.beta, model.r_d)
+        H, c_a, c_b = fischer_burmeister(f, f_old, phi, model.r_d, model.f_min, SMOOTHING * self.damage_tol)
         if not (np.all(np.isfinite(residual)) and np.all(np.isfinite(H))):
             raise NewtonFailure("non-finite residual or damage complementarity", residuals)
-        return response, residual, f_int, scale, extra_K, psi0_bar, lap_f, H, c_a, c_b, trial
+        return _Iterate(response, residual, f_int, scale, extra_K, psi0_bar, lap_f, phi, H, c_a, c_b, trial)
 
-    def _coupled_correction(self, constraint, point, K_II, R, H, c_a, c_b, f, psi0_bar, trial, u, f_old,
-                            onset, residuals):
+    def _coupled_correction(self, constraint, point, K_II, at: _Iterate, f, u, f_old, onset, residuals):
         """(δu_I, δf, δλ) of one monolithic Newton iteration (see :meth:`_monolithic_newton`); the last row is the
         linearised constraint, ``a·δu_I + b δλ = -g``; under :class:`DamageControl` ``dD/df·δf = -g``, or, at the
         damage onset (``onset`` = the element about to damage), ``δΦ_onset = -Φ_onset``."""
         model, free, kin = self.model, self.constraints.free, self.kin
-        lap_f = np.zeros_like(f) if self.laplacian is None or model.beta == 0.0 else self.laplacian.matrix @ f
-        phi = f * (psi0_bar - model.beta * lap_f) - model.r_d
+        H, c_a, c_b, phi, psi0_bar, R = at.H, at.c_a, at.c_b, at.phi, at.psi0_bar, at.residual[free]
         if isinstance(constraint, DamageControl):
             # the generalised Jacobian's loading branch (Φ stays 0, f free) for elements on the surface to within
             # NEAR_SURFACE: their FB derivative says "unloaded", and no element could then damage
@@ -373,7 +384,7 @@ class ModelIPathFollowingSolver(PathFollowingSolver):
             c_a, c_b = np.where(near, 0.0, c_a), np.where(near, 1.0, c_b)
         zone = np.flatnonzero(self._active(H, c_b))
         needed = zone if onset is None else np.union1d(zone, [onset])   # the blocks' rows and columns used below
-        sens = point_sensitivities(model, trial, self.assembler.strain(u), f, kin.components, needed)
+        sens = point_sensitivities(model, at.trial, self.assembler.strain(u), f, kin.components, needed)
         K_uf, G, dpsibar_df = coupling_blocks(self.assembler, sens)
         if self.laplacian is not None and model.beta > 0.0:     # dΦ/df, then dH = -c_a df - c_b / r_d dΦ
             pattern, _, diagonal, _ = _jacobian_pattern(self.laplacian)
