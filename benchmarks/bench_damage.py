@@ -158,6 +158,8 @@ PATH_CONTROLS = {"I": "damage", "II": "arc length"}
 Crisfield's arc length."""
 #: Model I's damage dissipation per step, relative to r_d times the specimen's volume (about 200 steps to fracture)
 DAMAGE_STEP = 1e-3
+
+
 def follow_specimen(sp, model: str, parameter: float, step: float):
     """One path-followed run (see the module docstring): Model I by its damage dissipation,
     :data:`DAMAGE_STEP` times r_d times the specimen's volume per step (load steps of ``step`` up to the first
@@ -235,7 +237,7 @@ def main_path(outdir: Path, against: Path, quick: bool = False, models=("I", "II
                                "steps": run.steps, "newton_iterations": run.iterations, "cutbacks": run.cutbacks,
                                "seconds": run.seconds, "peak_force_N": float(F[i]), "u_at_peak_mm": float(u[i]),
                                "smallest_u_after_peak_mm": float(np.min(u[i:])),
-                               "work_Nmm": float(np.sum(0.5 * (F[1:] + F[:-1]) * np.diff(u))),
+                               "work_Nmm": M.path_work(u, F),
                                "final_force_fraction": float(F[-1] / F[i]), "band_width_mm": band.width,
                                "damaged_pieces": M.damaged_components(sp.plane_mesh, run.stiffness_loss, 0.9,
                                                                       min_fraction=0.05),

@@ -197,3 +197,10 @@ def test_specimen_metrics_on_a_synthetic_ligament_band():
     assert m["transition_ratio"] == pytest.approx(1.0)
     assert m["peak_force_N"] == 10.0 and m["softening_mm"] == pytest.approx(7 / 6)  # F = 5 at u = 2 + 1/6
     assert m["softening_relative"] == pytest.approx(7 / 6) and m["work_Nmm"] == pytest.approx(5.0 + 8.0 + 3.0)
+
+
+def test_path_work_follows_a_path_that_turns_back():
+    """Up to (1, 2), back to (0.5, 0): the trapezoids 1 and -0.5 sum to 0.5 N mm (``work`` refuses such a path);
+    on a curve in u both give the same."""
+    assert M.path_work([0.0, 1.0, 0.5], [0.0, 2.0, 0.0]) == pytest.approx(0.5)
+    assert M.path_work([0.0, 1.0, 2.0], [0.0, 2.0, 2.0]) == M.work([0.0, 1.0, 2.0], [0.0, 2.0, 2.0]) == 3.0

@@ -35,6 +35,7 @@ import skfem
 from ..fem import Dirichlet, Kinematics, NewtonOptions, PathControl, Solver, StepControl, node_row_dofs, vector_basis
 from ..materials import TABLE_7_1, TABLE_7_2, ModelIDamage, ModelIIDamage
 from ..validation import check_positive, check_range, number_arguments
+from .metrics import path_work
 from .model_one_fe import ModelISolver
 from .model_one_path import ModelIPathFollowingSolver
 
@@ -202,7 +203,7 @@ def run_bar(material, n_elements: int, *, name: str = "", length: float = 20.0, 
                     newton=NewtonOptions(residual_tol=1e-5, max_iterations=30))
     res = solver.run(progress=False)
     u, F = res.curves["u_end"], res.curves["F_end"]
-    work = float(np.sum(0.5 * (F[1:] + F[:-1]) * np.diff(u)))
+    work = path_work(u, F)
     if is_model_two:  # f_bar = (1 - d_eff)^2, Eq. (6.87)
         f = ((1.0 - material.effective_damage(res.state)) ** 2).mean(axis=1)
     else:

@@ -114,6 +114,13 @@ def work(u, F, upto: float | None = None) -> float:
         keep = u < upto
         F = np.concatenate((F[keep], [np.interp(upto, u, F)]))
         u = np.concatenate((u[keep], [upto]))
+    return path_work(u, F)
+
+
+def path_work(u, F) -> float:
+    """``sum 1/2 (F_m + F_m+1) (u_m+1 - u_m)`` along a recorded path (N mm), which may turn back (a snap-back's
+    decreasing u): the external work of a path-followed run. :func:`work` is its checked form for curves in u."""
+    u, F = np.asarray(u, dtype=float), np.asarray(F, dtype=float)
     return float(np.sum(0.5 * (F[1:] + F[:-1]) * np.diff(u)))
 
 

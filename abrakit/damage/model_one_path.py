@@ -56,6 +56,7 @@ from ..fem.solver import NewtonFailure, StepContext
 from ..materials.model_one import damage_indicator
 from ..validation import check_option, check_range
 from .laplacian import ElementLaplacian
+from .metrics import path_work
 from .model_one_fe import (
     FrozenDamage,
     _jacobian_pattern,
@@ -506,8 +507,7 @@ class ModelIPathFollowingSolver(PathFollowingSolver):
         ``result`` of a :class:`~abrakit.fem.StepFailed`)."""
         state, dx = solve.state, self.kin.dx
         v, P = solve.curves["v"], solve.curves["P"]   # the work-conjugate load pair: W = sum 1/2 (P0 + P1) (v1 - v0)
-        energies = model_one_energies(self.model, state, dx, self.laplacian,
-                                      float(np.sum(0.5 * (P[1:] + P[:-1]) * np.diff(v))))
+        energies = model_one_energies(self.model, state, dx, self.laplacian, path_work(v, P))
         return ModelIPathResult(
             solve=solve, f=element_damage_function(state), alpha_p=element_mean(state["alpha_p"], dx),
             external_work=energies["external_work"], stored_energy=energies["stored_energy"],
