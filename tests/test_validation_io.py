@@ -8,6 +8,11 @@ from numpy.typing import ArrayLike
 
 from abrakit import io
 from abrakit import validation as V
+from abrakit.damage.laplacian import taylor_matrix
+from abrakit.experiments.specimen import members
+from abrakit.fem.boundary import Constraints
+from abrakit.fem.output import cell_fields
+from abrakit.materials.anisotropic_damage import ProjectedBandWidth
 
 
 def test_range_checks_name_the_parameter_and_the_interval():
@@ -223,3 +228,19 @@ def test_all_finite_is_exact_also_where_the_sum_overflows():
         a[3] = bad
         assert not all_finite(a)
     assert not all_finite(np.array([np.inf, -np.inf]))
+
+
+@pytest.mark.parametrize("call, name", [
+    (lambda: Constraints([], None), "ndof"),
+    (lambda: Constraints([], 2.5), "ndof"),
+    (lambda: ProjectedBandWidth(np.zeros((1, 3, 2)), factor="two"), "factor"),
+    (lambda: ProjectedBandWidth(np.full((1, 3, 2), np.nan)), "vertices"),
+    (lambda: cell_fields(np.full((1, 4, 6), np.nan), {}), "stress"),
+    (lambda: taylor_matrix([[np.nan, 0.0]]), "dx"),
+    (lambda: members(np.zeros((1, 3)), np.ones(1), np.zeros(1, int), np.full((1, 3, 3), np.nan)), "rotation"),
+])
+def test_set_up_functions_refuse_nan_and_non_numbers_by_name(call, name):
+    """Functions called once per run (constraints, band widths, output, Taylor rows, clump members) check their
+    input; the kernels inside a time step or return map trust their callers (README)."""
+    with pytest.raises((ValueError, TypeError), match=name):
+        call()

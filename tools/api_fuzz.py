@@ -59,6 +59,8 @@ NAN_ALLOWED = {
                                     "string \"NaN\"",
     ("abrakit.io.strict_json", "data"): "the same: NaN and infinities become the strings NaN, Infinity, -Infinity",
     ("abrakit.io.from_strict_json", "data"): "the inverse: the strings come back as NaN and infinities",
+    ("abrakit.validation.check_shape", "array"): "a shape check returns the array as given; its values are the "
+                                                 "business of check_finite",
 }
 
 #: Modules of input checks: their ``name`` argument is the parameter their errors must name (``check_range("x",

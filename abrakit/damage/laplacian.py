@@ -139,7 +139,7 @@ def taylor_matrix(dx) -> np.ndarray:
 
     ``D_jk = dx_k``, ``D_j,kp = dx_k dx_p`` (k < p), ``D_j,kk = dx_k**2 / 2``; units follow ``dx``.
     """
-    dx = np.asarray(dx, dtype=float)
+    dx = np.asarray(check_finite("dx", dx), dtype=float)
     columns = []
     for term in taylor_terms(dx.shape[-1]):
         if len(term) == 1:

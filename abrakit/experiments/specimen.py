@@ -407,7 +407,7 @@ def bounding_radius(radius: ArrayLike, shape):
 
 
 @number_arguments
-def members(centres: ArrayLike, radius: ArrayLike, shape, rotation):
+def members(centres: ArrayLike, radius: ArrayLike, shape, rotation: ArrayLike):
     """Member spheres of the grains: ``(x (K, 3), radius (K,), clump (K,))``; spheres get clump id −1, clumps
     are numbered from 0. ``rotation`` (N, 3, 3) turns the template (members along the x-axis)."""
     xs, rs, ids = [], [], []

@@ -99,8 +99,10 @@ class Constraints:
     """
 
     def __init__(self, conditions: Sequence[Dirichlet], ndof: int):
+        if isinstance(ndof, bool) or not isinstance(ndof, int | np.integer) or ndof < 0:
+            raise TypeError(f"ndof must be a non-negative integer (the number of DOFs), got {ndof!r}")
         self.conditions = list(conditions)
-        self.ndof = ndof
+        self.ndof = int(ndof)
         dofs = np.concatenate([c.dofs for c in self.conditions]) if self.conditions else np.zeros(0, int)
         unique = np.unique(dofs)
         if unique.size and (unique[0] < 0 or unique[-1] >= ndof):

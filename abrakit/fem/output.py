@@ -14,6 +14,7 @@ import numpy as np
 
 from .. import tensors as T
 from ..io import CurveWriter, VtuSeries, dumps, loads, write_atomically
+from ..validation import check_finite
 
 SQRT2 = np.sqrt(2.0)
 _MESHIO_TYPE = {"MeshQuad1": "quad", "MeshTri1": "triangle", "MeshHex1": "hexahedron", "MeshTet1": "tetra"}
@@ -44,6 +45,7 @@ def cell_fields(stress: np.ndarray, state: dict) -> dict:
     (Mandel ones as 3 × 3 tensors, :data:`MANDEL_STATE`).
 
     Finite-strain models return P (9 components); their Cauchy stress ``state["cauchy"]`` is written instead."""
+    stress = check_finite("stress", stress)
     if stress.shape[-1] != 6:
         stress = state["cauchy"]
     mean = stress.mean(axis=1)

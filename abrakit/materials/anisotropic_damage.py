@@ -58,7 +58,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .. import tensors as T
-from ..validation import check_number_fields, check_option, check_positive, check_range, check_shape
+from ..validation import check_finite, check_number_fields, check_option, check_positive, check_range, check_shape
 from .base import IsotropicElasticity, MaterialResponse, check_strain
 from .softening_laws import max_band_width, softening_law
 
@@ -107,6 +107,10 @@ class ProjectedBandWidth:
 
     vertices: np.ndarray
     factor: float | np.ndarray = 1.0
+
+    def __post_init__(self):
+        check_finite("vertices", self.vertices)
+        check_positive("factor", check_finite("factor", self.factor))
 
     def width(self, normals: np.ndarray, where, batch: tuple[int, ...]) -> np.ndarray:
         """Width of the points ``where`` (flat indices into the batch ``batch``) for their ``normals`` (m, 3),
