@@ -14,6 +14,14 @@ def test_every_demo_runs_and_reports():
     assert "all demos" in out.getvalue()
 
 
+def test_demos_are_named_like_the_chapters():
+    from pathlib import Path
+
+    toc = (Path(__file__).parent.parent / "book" / "_toc.yml").read_text()
+    chapters = {line.split("file:")[1].strip() for line in toc.splitlines() if "file:" in line}
+    assert set(cli.DEMOS) <= chapters | {"intro"}
+
+
 def test_unknown_demo_is_refused():
     with pytest.raises(ValueError, match="unknown demo"):
         cli.run_demos(["nope"])

@@ -271,9 +271,14 @@ def envelope_case(params: dict) -> dict:
             "seconds": time.perf_counter() - start}
 
 
+#: the demo's specimen: 150 spheres whose consolidation is accepted (walls within 9 % of σ0; seed 0 ends 20 % off
+#: and would be made anew at every call), so it is cached after the first call
+DEMO_SPEC = SpecimenSpec(n_particles=150, seed=5, aspect=1.5)
+
+
 def demo() -> str:
-    """A 150-sphere specimen (cached after the first call): E and ν by the three schemes beside Eq. (5.20)."""
-    spec = SpecimenSpec(n_particles=150, seed=0, aspect=1.5)
+    """A 150-sphere specimen (:data:`DEMO_SPEC`): E and ν by the three schemes beside Eq. (5.20)."""
+    spec = DEMO_SPEC
     specimen = genesis(spec)
     lines = [f"DEM compression test (Ch. 5.3): {len(specimen)} spheres, porosity after expansion "
              f"{specimen.info['porosity_expanded']:.3f}, interior after consolidation to σ0 = 1 MPa "

@@ -1,6 +1,6 @@
 """A 1D damage point under cyclic strain, rate-independent and rate-dependent (Ch. 2.6), saved as CSV.
 
-    python examples/damage_1d_cyclic.py [outdir]
+    python examples/evolution.py [outdir]
 """
 
 import sys

@@ -1,6 +1,6 @@
 """A thick cylinder under internal pressure up to collapse, against Hill's closed form (verification of the solver).
 
-    python examples/thick_cylinder_collapse.py
+    python examples/fem.py
 
 Quarter of a plane-strain cylinder (inner radius 10 mm, outer 20 mm), von Mises plasticity without hardening,
 B-bar quadrilaterals, loaded to 95 % of the limit pressure p_L = (2/sqrt 3) sigma_0 ln(b/a). Prints the radial

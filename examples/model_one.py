@@ -1,6 +1,6 @@
 """Model I through a snap-back: a notched bar under displacement control (jumps) and under path following.
 
-    python examples/model_one_snap_back.py [outdir]
+    python examples/model_one.py [outdir]
 
 Writes ``snap_back_<run>.csv`` (end displacement u in mm, force F in N, one row per converged step) for each run
 and prints the peaks, the smallest end displacement after the peak and the share of the work that the energy

@@ -1,6 +1,6 @@
 """Micro-macro identification: contact stiffnesses for a target E and nu (Eq. 5.9, 5.21), and back (Eq. 5.20).
 
-    python examples/contact_stiffness_from_E_nu.py
+    python examples/identification.py
 """
 
 from abrakit import identification as ident

@@ -1,6 +1,6 @@
 """Recompute Table 8.4 of the seed (ASTM G65, quartz 100/200 um mixtures) and save it as CSV.
 
-    python examples/wear_table_8_4.py [outdir]
+    python examples/wear.py [outdir]
 """
 
 import sys
