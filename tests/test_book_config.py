@@ -73,3 +73,28 @@ def test_no_chapter_contains_control_characters():
              for number, line in enumerate(chapter.read_text().splitlines(), 1)
              if re.search(r"[\x00-\x08\x0b\x0c\x0e-\x1f\t]", line)]
     assert found == [], found
+
+
+def test_code_cells_link_to_the_api_and_a_section_without_title_pops_nothing():
+    """sphinx-codeautolink links names in code cells to the API reference; sphinx-exercise's sections without a
+    title made it pop a title it never pushed (book/_ext/codeautolink_sections.py mends that)."""
+    import importlib.util
+    from types import SimpleNamespace
+
+    import pytest
+    from docutils import nodes
+
+    pytest.importorskip("sphinx_codeautolink")
+    config = yaml.safe_load((BOOK / "_config.yml").read_text())["sphinx"]
+    assert "sphinx_codeautolink" in config["extra_extensions"]
+    assert config["local_extensions"]["codeautolink_sections"] == "_ext"
+    spec = importlib.util.spec_from_file_location("codeautolink_sections", BOOK / "_ext" / "codeautolink_sections.py")
+    ext = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(ext)
+    body = nodes.section(ids=["exercise-content"])                         # sphinx-exercise's: no title
+    chapter = nodes.section("", nodes.title(text="Exercises"), body, ids=["exercises"])
+    visitor = SimpleNamespace(title_stack=["Exercises"])
+    ext.depart_section(visitor, body)
+    assert visitor.title_stack == ["Exercises"]
+    ext.depart_section(visitor, chapter)
+    assert visitor.title_stack == []

@@ -213,6 +213,15 @@ def test_genesis_warns_and_does_not_cache_an_unconsolidated_specimen(tmp_path):
         genesis(spec, cache=tmp_path, max_steps=2000)
 
 
+def test_genesis_flags_a_specimen_cached_before_the_acceptance_existed(tmp_path):
+    """An accepted specimen saved without ``consolidation_accepted`` (an older cache) is returned with the flag."""
+    spec = SpecimenSpec(n_particles=60, seed=2, aspect=1.0)
+    good = genesis(spec, cache=False)
+    del good.info["consolidation_accepted"]
+    good.save(tmp_path / f"specimen_{spec.key()}.npz")
+    assert genesis(spec, cache=tmp_path).info["consolidation_accepted"] is True
+
+
 def test_servo_holds_the_confining_stress(granular):
     sim, curve = granular["sim"], granular["curve"]
     lateral = curve["wall"]["sigma_lateral"]

@@ -467,6 +467,7 @@ def genesis(spec: SpecimenSpec | None = None, *, cache: bool | str | Path = True
         stem = spec.key() + ("" if max_steps == MAX_STEPS else f"_steps{int(max_steps)}")
         path = (cache_dir() if cache is True else Path(cache)) / f"specimen_{stem}.npz"
         if path.exists() and _accepted((cached := Specimen.load(path)).info, spec.stress):
+            cached.info.setdefault("consolidation_accepted", True)      # files cached before the flag existed
             return cached
     start = time.perf_counter()
     rng = np.random.default_rng(spec.seed)
