@@ -71,6 +71,22 @@ def test_softening_displacement():
     assert M.softening_displacement(u[:3], F[:3], 0.5) == np.inf
 
 
+def test_largest_drop_is_the_largest_fall_of_one_step_after_the_peak():
+    u = np.array([0.0, 1.0, 2.0, 3.0, 4.0, 5.0])
+    assert M.largest_drop(u, np.array([0.0, 10.0, 8.0, 3.0, 2.5, 2.0])) == pytest.approx(0.5)
+    assert M.largest_drop(u, np.array([0.0, 2.0, 4.0, 6.0, 8.0, 10.0])) == 0.0          # never falls
+    assert M.largest_drop(u, np.array([0.0, 10.0, 1.0, 9.0, 0.0, 0.0])) == pytest.approx(0.9)
+
+
+def test_steepest_softening_is_the_steepest_secant_after_the_peak():
+    u = np.array([0.0, 1.0, 1.5, 3.5, 4.0])
+    F = np.array([0.0, 10.0, 6.0, 2.0, 1.0])                   # slopes after the peak: 8, 2, 2 N/mm
+    assert M.steepest_softening(u, F) == pytest.approx(0.8)
+    assert M.steepest_softening(u, u) == 0.0
+    with pytest.raises(ValueError, match="grows in every step"):
+        M.steepest_softening([0.0, 1.0, 1.0], [0.0, 2.0, 1.0])
+
+
 def test_curve_input_is_validated():
     with pytest.raises(ValueError, match="must not decrease"):
         M.peak([0.0, 2.0, 1.0], [0.0, 1.0, 2.0])

@@ -15,7 +15,11 @@ opposite. Every metric is exact on its own terms (tests check them on synthetic 
   on every interval, and ``int g^2 = h (g_0^2 + g_0 g_1 + g_1^2)/3``);
 - :func:`work` -- ``int F du`` (trapezoidal, exact for a piecewise-linear curve), optionally up to a displacement;
 - :func:`softening_displacement` -- how far past the peak the force falls to a fraction of it (steep vs smooth
-  drop), by linear interpolation.
+  drop), by linear interpolation;
+- :func:`largest_drop` -- the largest force drop of one step after the peak (a jump keeps it under step
+  refinement, a force continuous in u halves it with the step);
+- :func:`steepest_softening` -- the steepest secant slope of a step after the peak (converges under step
+  refinement for a force continuous in u, doubles with each halving at a jump).
 
 **Damage fields** (one value per element of a 2D mesh, e.g. the stiffness loss ``1 - f``):
 
@@ -122,6 +126,35 @@ def path_work(u, F) -> float:
     decreasing u): the external work of a path-followed run. :func:`work` is its checked form for curves in u."""
     u, F = np.asarray(u, dtype=float), np.asarray(F, dtype=float)
     return float(np.sum(0.5 * (F[1:] + F[:-1]) * np.diff(u)))
+
+
+def largest_drop(u, F) -> float:
+    """Largest force drop of one recorded step after the peak, as a fraction of the peak (0 if the force never
+    falls).
+
+    Under displacement control it tells a force continuous in u from a jump: refining the steps shrinks it in
+    proportion to the step where the curve is a graph over u, and leaves it where the structure snaps back or
+    drops vertically (the step jumps over a branch that displacement control cannot compute).
+    """
+    u, F = _curve(u, F)
+    i = int(np.argmax(F))
+    drops = F[i:-1] - F[i + 1:]
+    return float(max(drops.max(initial=0.0), 0.0) / F[i])
+
+
+def steepest_softening(u, F) -> float:
+    """Steepest secant slope of one recorded step after the peak, ``max (F_m - F_m+1) / (u_m+1 - u_m)``, as a
+    fraction of the peak per mm (0 if the force never falls; for a curve in u, whose steps have ``du > 0``).
+
+    Under step refinement it converges where the force is continuous in u and doubles with every halving of the
+    step where the curve jumps; unlike :func:`largest_drop` it does not depend on where cutbacks shortened a step.
+    """
+    u, F = _curve(u, F)
+    i = int(np.argmax(F))
+    du = np.diff(u[i:])
+    if np.any(du <= 0.0):
+        raise ValueError("steepest_softening needs a displacement that grows in every step after the peak")
+    return float(max(((F[i:-1] - F[i + 1:]) / du).max(initial=0.0), 0.0) / F[i])
 
 
 def softening_displacement(u, F, fraction: float = 0.5) -> float:

@@ -66,7 +66,7 @@ from ..fem.kinematics import element_mean
 from ..io import CurveWriter, VtuSeries, write_json
 from ..materials import TABLE_7_2, ModelIIDamage
 from ..materials.model_two import damage_function, effective_damage_function
-from ..validation import check_positive, check_range
+from ..validation import check_option, check_positive, check_range
 
 CURVE_COLUMNS = ("step", "load_factor", "u", "F", "external_work", "rate_limit_work", "damage_increment",
                  "stored_energy", "plastic_dissipation", "damage_dissipation", "threshold_dissipation",
@@ -189,9 +189,14 @@ class _Bookkeeping:
     last: object = None
 
 
+#: how a path-followed step evaluates its rate limit: from the current Newton iterate, or frozen at the step's
+#: first iterate (the predictor), a diagnostic (see :func:`model_two_solver`)
+RATE_LIMITS = ("iterate", "predictor")
+
+
 def model_two_solver(basis, material: ModelIIDamage, dirichlet, *, force_scale: float = 1.0, steps: int = 200,
                      control=None, newton=None, linear_solver="auto", end: float = 1.0, path=None,
-                     method: str = "dissipation"):
+                     method: str = "dissipation", rate_limit: str = "iterate"):
     """:class:`abrakit.fem.Solver` with the Model II rate limit in its ``loading`` hook (see the module docstring).
 
     ``steps`` equal load increments over ``[0, end]`` unless ``control`` is given: cutbacks by 1/4 down to
@@ -203,7 +208,14 @@ def model_two_solver(basis, material: ModelIIDamage, dirichlet, *, force_scale: 
     ``path`` (a :class:`~abrakit.fem.PathControl`): a :class:`~abrakit.fem.PathFollowingSolver` with ``method``
     instead. The load factor is then an unknown and may fall (snap-back), where the reactions do negative work
     over the increment; the rate limit takes the magnitude of that work, ``|s sum_D du_D f*_D^m|``: the damage of
-    a step is bounded by the energy exchanged at the loaded boundary, whichever way it flows.
+    a step is bounded by the energy exchanged at the loaded boundary, whichever way it flows. With
+    ``rate_limit="iterate"`` that work follows the unknown load factor through the Newton iterations, and the
+    tangent does not carry this dependence; ``rate_limit="predictor"`` freezes it at the step's first iterate. This
+    is a diagnostic, not a method (the step's damage then does not follow the corrected load factor): on the plate
+    with a hole (250 elements, alpha = 0.05) the live rate limit creeps at the peak for 600 steps, the frozen one
+    passes the peak in 9 steps and stops at 91 % of it, where the arc-length equation has no real root
+    (``benchmarks/bench_model_two_steps.py``). Model II needs no path following: its path is a graph over u
+    (book chapter "Model II", section "Model II does not snap back").
     """
     from ..fem import PathFollowingSolver, Solver, StepControl
 
@@ -220,9 +232,13 @@ def model_two_solver(basis, material: ModelIIDamage, dirichlet, *, force_scale: 
     prescribed = solver.constraints.prescribed
     scale = check_positive("force_scale", force_scale)
     magnitude = abs if path is not None else float
+    check_option("rate_limit", rate_limit, RATE_LIMITS)
+    frozen = {}
 
     def loading(ctx):
-        return {"external_work": magnitude(rate_limit_work(ctx.u, ctx.u_old, ctx.f_int_old, prescribed, scale))}
+        if rate_limit == "iterate" or ctx.iteration <= 1 or not frozen:
+            frozen["work"] = magnitude(rate_limit_work(ctx.u, ctx.u_old, ctx.f_int_old, prescribed, scale))
+        return {"external_work": frozen["work"]}
 
     solver.loading = loading
     return solver
@@ -232,7 +248,8 @@ def run_model_two(specimen, alpha: float = 0.05, *, material: ModelIIDamage | No
                   end: float = 1.0, stop_fraction: float | None = None, output: str | Path | None = None,
                   vtu_every: int = 0, control=None, newton=None, linear_solver="auto", progress: bool = False,
                   on_step: Callable[[ModelTwoResult], None] | None = None, path=None,
-                  method: str = "dissipation", checkpoint_every: int = 10, resume: bool = False) -> ModelTwoResult:
+                  method: str = "dissipation", rate_limit: str = "iterate", checkpoint_every: int = 10,
+                  resume: bool = False) -> ModelTwoResult:
     """Load ``specimen`` (:mod:`abrakit.damage.specimens`) with Model II: Algorithm 2 at every quadrature point.
 
     Parameters
@@ -245,7 +262,7 @@ def run_model_two(specimen, alpha: float = 0.05, *, material: ModelIIDamage | No
     output : directory for the curves, VTU fields (every ``vtu_every`` steps, 0: last step only), summary and
         checkpoint; ``None`` writes nothing.
     on_step : called with the partial result after every converged step.
-    path, method : path following (a :class:`~abrakit.fem.PathControl` and the constraint method of
+    path, method, rate_limit : path following (a :class:`~abrakit.fem.PathControl` and the constraint method of
         :class:`~abrakit.fem.PathFollowingSolver`) instead of ``steps`` equal displacement increments; see
         :func:`model_two_solver` for the rate limit under path following.
     checkpoint_every, resume : with ``output``, ``last_converged.npz`` is also written every ``checkpoint_every``
@@ -267,7 +284,7 @@ def run_model_two(specimen, alpha: float = 0.05, *, material: ModelIIDamage | No
                          "path-followed run resumes through PathFollowingSolver.run(output=..., resume=True)")
     solver = model_two_solver(specimen.basis, material, specimen.dirichlet, force_scale=specimen.force_scale,
                               steps=steps, control=control, newton=newton, linear_solver=linear_solver, end=end,
-                              path=path, method=method)
+                              path=path, method=method, rate_limit=rate_limit)
     kin, scale = solver.kin, specimen.force_scale
     dx = kin.dx
     prescribed = solver.constraints.prescribed
