@@ -63,9 +63,15 @@ DECISIONS: tuple[Decision, ...] = (
               "tests/test_damage_model_one.py::test_coupled_equals_the_seed_update_for_a_single_active_element"),
              "model_one", "choice"),
     Decision("Model II's rate limit under path following", "external power ℓ_ext at a prescribed load",
-             "|work of the reactions| of the step", "the load factor is an unknown, so the power may change sign "
-             "through a snap-back", ("tests/test_damage_model_two.py::test_arc_length_follows_model_two_to_fracture_"
-                                     "like_displacement_control",), "fem", "ambiguity"),
+             "|work of the reactions| of the step; the book computes Model II under displacement control",
+             "the load factor is an unknown, so the power may change sign through a snap-back; Model II itself "
+             "has none (no damage grows at a constant displacement: the force drop of a step halves with the "
+             "step), and arc length creeps at the plate's peak because the rate limit moves with the load factor",
+             ("tests/test_damage_model_two.py::test_arc_length_follows_model_two_to_fracture_"
+              "like_displacement_control",
+              "tests/test_damage_model_two.py::test_model_two_does_not_snap_back_its_largest_drop_halves_with_the_step",
+              "tests/test_damage_model_two.py::test_arc_length_creeps_at_the_plate_peak_because_the_rate_limit_"
+              "follows_the_load_factor", "benchmarks/bench_model_two_steps.py"), "model_two", "ambiguity"),
     Decision("stiffness identification, Eqs. (5.20), (5.21)", "published form (α = 1)",
              "both: ``published`` and the variationally consistent form (÷ α²)",
              "the published form violates its own kinematic constraint for an affine field and can exceed the "
