@@ -130,6 +130,9 @@ def plot(rows, path):
     import matplotlib.pyplot as plt
 
     fig, (left, middle, right) = plt.subplots(1, 3, figsize=(16, 4.6))
+    left.set_prop_cycle(color=plt.cm.tab20(np.linspace(0, 1, 20))[:12])
+    middle.set_prop_cycle(color=plt.cm.tab20(np.linspace(0, 1, 20))[:12])
+    right.set_prop_cycle(color=plt.cm.tab20(np.linspace(0, 1, 20))[:12])
     for (name, strength, formulation), group in cases(rows).items():
         style = "-" if formulation == "plane_strain" else "--"
         label = f"{name.replace('_', ' ')}, {strength}, {formulation.replace('_', ' ')}"
@@ -147,6 +150,8 @@ def plot(rows, path):
                title="... and its steepest slope converges")
     right.set(xlabel="run time [s]", ylabel="|peak error| against the finest step",
               title="speed against error")
+    for ax in (left, middle):
+        ax.xaxis.set_minor_formatter(plt.NullFormatter())
     save_figure(fig, path)
 
 
