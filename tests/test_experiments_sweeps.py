@@ -170,3 +170,39 @@ def test_load_sweep_names_a_truncated_file_and_skips_stray_json(tmp_path):
     truncated.write_text(truncated.read_text()[:25])
     with pytest.raises(ValueError, match=f"{truncated.name} is not valid JSON"):
         load_sweep(out)
+
+
+def slow_case(params):
+    """A case that takes a moment, so that two processes running one sweep overlap."""
+    import time
+
+    time.sleep(0.05)
+    return polynomial_case(params)
+
+
+def _run_sweep_in_process(log, out):
+    run_sweep(slow_case, sweep(Path(log), 12), out, backend="serial")
+
+
+def test_two_processes_running_one_sweep_leave_every_case_once_and_every_file_valid(tmp_path):
+    """Two processes start the same sweep on one folder at once: each case ends up in exactly one valid file
+    (written under a unique temporary name and renamed), no temporary file is left, and a third run reads all."""
+    import multiprocessing
+
+    out = tmp_path / "out"
+    context = multiprocessing.get_context("spawn")
+    workers = [context.Process(target=_run_sweep_in_process, args=(str(tmp_path), str(out))) for _ in range(2)]
+    for worker in workers:
+        worker.start()
+    for worker in workers:
+        worker.join(timeout=120)
+        assert worker.exitcode == 0
+    files = sorted(out.iterdir())
+    assert len(files) == 12 and all(f.suffix == ".json" for f in files)
+    records = load_sweep(out)
+    assert sorted(r["params"]["x"] for r in records) == list(range(12))
+    assert all(r["result"]["square"] == r["params"]["x"] ** 2 for r in records)
+    computed = calls(tmp_path)
+    assert set(computed) == set(map(float, range(12))) and len(computed) <= 24
+    again = run_sweep(slow_case, sweep(tmp_path, 12), out, backend="serial")
+    assert all(r["resumed"] for r in again) and len(calls(tmp_path)) == len(computed)
