@@ -973,6 +973,6 @@ def demo() -> str:
     b = r.budget.as_dict(scale=1e9)
     lines.append(f"volume audit (um3): groove {b['groove']:.0f} + sink {b['sink']:.0f} = shoulders {b['shoulders']:.0f}"
                  f" + prow {b['prow']:.0f} - int(J-1)dV {b['volume_change']:+.0f} (closure {b['residual']:.1e}); "
-                 "small strain loses volume at second order, kinematics='finite' does not "
+                 "small strain loses volume at second order, kinematics='finite' keeps only the elastic volume change "
                  "(chapter 'Where the groove goes')")
     return "\n".join(lines)
