@@ -212,7 +212,7 @@ def main_path(outdir: Path, against: Path, quick: bool = False, models=("I", "II
     runs_dir.mkdir(parents=True, exist_ok=True)
     mode = "quick" if quick else "full"
     levels = LEVELS[mode]
-    t_start, summary = time.perf_counter(), {}
+    summary = {}
     # rows not rerun are kept from the stored study (e.g. --models I after a change of Model I)
     rows = [r for r in read_path_rows(outdir) if not (r["model"] in models and r["specimen"] in specimens)]
     stepped = displacement_rows(against)
@@ -251,7 +251,7 @@ def main_path(outdir: Path, against: Path, quick: bool = False, models=("I", "II
                               f"{row['work_Nmm']:.0f} N mm", flush=True)
                         summary = summarise_path(outdir, rows, {
                             "mode": mode, "formulation": formulation, "levels": [str(lv) for lv in levels],
-                            "wall_time_s": time.perf_counter() - t_start, "against": str(against)})
+                            "wall_time_s": sum(r["seconds"] for r in rows), "against": _relative(against)})
     return summary
 
 
@@ -324,6 +324,14 @@ def finish(outdir: Path, records: list, summary: dict) -> dict:
     write_json(outdir / f"{NAME}.json", summary)
     plot(outdir, records, levels)
     return summary
+
+
+def _relative(path: Path) -> str:
+    """``path`` relative to the repository's ``benchmarks/`` folder where it lies inside, else as given."""
+    try:
+        return str(Path(path).resolve().relative_to(RESULTS.parent.parent))
+    except ValueError:
+        return str(path)
 
 
 def reanalyse(outdir: Path = RESULTS) -> dict:
