@@ -9,10 +9,15 @@ from numpy.typing import ArrayLike
 from abrakit import io
 from abrakit import validation as V
 from abrakit.damage.laplacian import taylor_matrix
+from abrakit.damage.metrics import path_work
+from abrakit.damage.model_one_path import DamageControl
 from abrakit.experiments.specimen import members
 from abrakit.fem.boundary import Constraints
+from abrakit.fem.linsolve import banded_wins
 from abrakit.fem.output import cell_fields
 from abrakit.materials.anisotropic_damage import ProjectedBandWidth
+from abrakit.materials.plasticity import plastic_step
+from abrakit.scratch.checkpoint import fingerprint
 
 
 def test_range_checks_name_the_parameter_and_the_interval():
@@ -238,6 +243,12 @@ def test_all_finite_is_exact_also_where_the_sum_overflows():
     (lambda: cell_fields(np.full((1, 4, 6), np.nan), {}), "stress"),
     (lambda: taylor_matrix([[np.nan, 0.0]]), "dx"),
     (lambda: members(np.zeros((1, 3)), np.ones(1), np.zeros(1, int), np.full((1, 3, 3), np.nan)), "rotation"),
+    (lambda: DamageControl(float("nan"), np.ones(2)), "tau"),
+    (lambda: DamageControl(0.1, np.array([1.0, np.nan])), "weights"),
+    (lambda: banded_wins(None, 10, "superlu"), "n"),
+    (lambda: fingerprint("scene", "many"), "ndof"),
+    (lambda: path_work([0.0, np.nan], [0.0, 1.0]), "u"),
+    (lambda: plastic_step(np.zeros(6), np.zeros(6), 0.0, 80e3, 100.0, "stiff", "implicit"), "K_H"),
 ])
 def test_set_up_functions_refuse_nan_and_non_numbers_by_name(call, name):
     """Functions called once per run (constraints, band widths, output, Taylor rows, clump members) check their

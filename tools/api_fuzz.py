@@ -61,6 +61,7 @@ NAN_ALLOWED = {
     ("abrakit.io.from_strict_json", "data"): "the inverse: the strings come back as NaN and infinities",
     ("abrakit.validation.check_shape", "array"): "a shape check returns the array as given; its values are the "
                                                  "business of check_finite",
+    ("abrakit.validation.all_finite", "arr"): "it answers whether an array holds NaN or infinity",
 }
 
 #: Modules of input checks: their ``name`` argument is the parameter their errors must name (``check_range("x",

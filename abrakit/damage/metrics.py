@@ -47,7 +47,7 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike
 
-from ..validation import check_range, number_arguments
+from ..validation import check_finite, check_range, number_arguments
 
 
 def _curve(u, F, name="curve"):
@@ -124,7 +124,9 @@ def work(u, F, upto: float | None = None) -> float:
 def path_work(u, F) -> float:
     """``sum 1/2 (F_m + F_m+1) (u_m+1 - u_m)`` along a recorded path (N mm), which may turn back (a snap-back's
     decreasing u): the external work of a path-followed run. :func:`work` is its checked form for curves in u."""
-    u, F = np.asarray(u, dtype=float), np.asarray(F, dtype=float)
+    u, F = check_finite("u", u), check_finite("F", F)
+    if np.shape(u) != np.shape(F) or np.ndim(u) != 1:
+        raise ValueError(f"u and F must be 1D arrays of the same length, got shapes {np.shape(u)} and {np.shape(F)}")
     return float(np.sum(0.5 * (F[1:] + F[:-1]) * np.diff(u)))
 
 

@@ -54,7 +54,7 @@ from ..fem.linsolve import DirectSolver, LinearSolveError
 from ..fem.pathfollow import ConstraintSingular, LinearConstraint, LoadFactorControl, PathFollowingSolver, PathPoint
 from ..fem.solver import NewtonFailure, StepContext
 from ..materials.model_one import damage_indicator
-from ..validation import check_option, check_range
+from ..validation import check_finite, check_option, check_range
 from .laplacian import ElementLaplacian
 from .metrics import path_work
 from .model_one_fe import (
@@ -126,6 +126,11 @@ class DamageControl:
     tau: float
     weights: np.ndarray = None
     name = "damage"
+
+    def __post_init__(self):
+        check_range("tau", check_finite("tau", self.tau), 0.0, None, low_open=True)
+        if self.weights is not None:
+            self.weights = check_range("weights", check_finite("weights", self.weights), 0.0, None)
 
     def value(self, f: np.ndarray, f_old: np.ndarray) -> float:
         return float(self.weights @ (1.0 - f / f_old))

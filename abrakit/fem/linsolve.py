@@ -209,6 +209,7 @@ BANDED_SECONDS = (4e-5, 2.2e-10)
 at n = 120, w = 23; 0.34 ms at n = 440, w = 43; 2.6 ms at n = 1680, w = 83; 26 ms at n = 6560, w = 163."""
 
 
+@number_arguments
 def banded_wins(n: int, bandwidth: int, sparse: str) -> bool:
     """Whether the banded LU is expected to beat the sparse back-end ``sparse`` on n unknowns of this bandwidth
     (the cost models :data:`BANDED_SECONDS` and :data:`SPARSE_SECONDS`)."""

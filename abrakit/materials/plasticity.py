@@ -31,6 +31,7 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from ..compiled import HAVE_NUMBA, njit
 from ..validation import check_number_fields, check_option, check_poisson, check_positive, number_arguments
@@ -55,7 +56,9 @@ class PlasticStep:
     active: np.ndarray
 
 
-def plastic_step(eps, eps_p, alpha_p, shear_modulus, r_p: float | None, K_H: float, integration: str) -> PlasticStep:
+@number_arguments
+def plastic_step(eps, eps_p: ArrayLike, alpha_p: ArrayLike, shear_modulus: ArrayLike, r_p: float | None, K_H: float,
+                 integration: str) -> PlasticStep:
     """Return map of the von Mises model for stresses ``f E : (eps - eps_p)``, Eq. (6.59)-(6.61).
 
     ``shear_modulus`` is the effective ``G = f mu`` (MPa; scalar or batch array) with the damage function

@@ -17,12 +17,14 @@ from pathlib import Path
 
 from abrakit.fem.output import RunWriter, load_matching_checkpoint, save_checkpoint
 from abrakit.fem.solver import continuation_arrays, continuation_of
+from abrakit.validation import number_arguments
 
 __all__ = ["CHECKPOINT", "load_scratch_checkpoint", "save_scratch_checkpoint"]
 
 CHECKPOINT = RunWriter.CHECKPOINT
 
 
+@number_arguments
 def fingerprint(scene, ndof: int) -> dict:
     """What a checkpoint must match to be resumed: the scene (its exact repr) and the number of DOFs."""
     return {"scene": repr(scene), "dofs": int(ndof)}
