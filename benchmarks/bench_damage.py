@@ -205,8 +205,11 @@ def displacement_rows(against: Path) -> dict:
 
 
 def main_path(outdir: Path, against: Path, quick: bool = False, models=("I", "II"), specimens=tuple(SPECIMENS),
-              formulation: str = "plane_strain") -> dict:
-    """``--control path``: every specimen, model, regularisation and mesh followed through its snap-back."""
+              formulation: str = "plane_strain", resume: bool = False) -> dict:
+    """``--control path``: every specimen, model, regularisation and mesh followed through its snap-back.
+
+    ``resume``: keep every stored row and run only the cases of ``models`` and ``specimens`` without one (an
+    interrupted study continues where it stopped)."""
     outdir = Path(outdir)
     runs_dir = outdir / f"{NAME}_runs"
     runs_dir.mkdir(parents=True, exist_ok=True)
@@ -214,16 +217,20 @@ def main_path(outdir: Path, against: Path, quick: bool = False, models=("I", "II
     levels = LEVELS[mode]
     summary = {}
     # rows not rerun are kept from the stored study (e.g. --models I after a change of Model I)
-    rows = [r for r in read_path_rows(outdir) if not (r["model"] in models and r["specimen"] in specimens)]
+    stored = read_path_rows(outdir)
+    rows = stored if resume else [r for r in stored if not (r["model"] in models and r["specimen"] in specimens)]
+    done = {(r["specimen"], r["model"], r["regularisation"], r["level"]) for r in rows}
     stepped = displacement_rows(against)
     with CurveWriter(outdir / f"{NAME}.csv", PATH_COLUMNS) as writer:
         for row in rows:
             row.setdefault("control", PATH_CONTROLS[row["model"]])
-            writer.write(**row)
+            writer.write(**path_csv_row(row))
         for spec_name in specimens:
             for model in models:
                 for strength, parameter in REGULARISATION[model].items():
                     for level in levels:
+                        if (spec_name, model, strength, str(level)) in done:
+                            continue
                         sp = specimen(spec_name, level, displacement=DISPLACEMENT, formulation=formulation)
                         run = follow_specimen(sp, model, parameter, STEPS[0])
                         u, F = np.asarray(run.u), np.asarray(run.F)
@@ -242,7 +249,7 @@ def main_path(outdir: Path, against: Path, quick: bool = False, models=("I", "II
                                "damaged_pieces": M.damaged_components(sp.plane_mesh, run.stiffness_loss, 0.9,
                                                                       min_fraction=0.05),
                                **stepped.get((spec_name, model, strength, str(level)), {})}
-                        writer.write(**row)
+                        writer.write(**path_csv_row(row))
                         rows.append(row)
                         np.savez_compressed(runs_dir / f"{case_name(spec_name, model, strength, level, 0)}.npz",
                                             u=u, F=F, stiffness_loss=run.stiffness_loss.astype(np.float32))
@@ -253,6 +260,12 @@ def main_path(outdir: Path, against: Path, quick: bool = False, models=("I", "II
                             "mode": mode, "formulation": formulation, "levels": [str(lv) for lv in levels],
                             "wall_time_s": sum(r["seconds"] for r in rows), "against": _relative(against)})
     return summary
+
+
+def path_csv_row(row: dict) -> dict:
+    """``row`` with every column of :data:`PATH_COLUMNS`, empty where it has no value (a run without a
+    displacement-controlled twin, or a stored row read back without one)."""
+    return {column: row.get(column) for column in PATH_COLUMNS}
 
 
 def read_path_rows(outdir: Path) -> list[dict]:
@@ -491,6 +504,8 @@ if __name__ == "__main__":
     parser.add_argument("--against", type=Path, default=None,
                         help="the displacement-controlled study the path-followed rows compare with (default: "
                              "results/ for plane strain, results/damage_extruded/ for extruded)")
+    parser.add_argument("--resume", action="store_true",
+                        help="with --control path: keep the stored rows and run only the missing cases")
     parser.add_argument("--reanalyse", action="store_true",
                         help="recompute the metrics of the stored runs in OUTDIR without rerunning them")
     args = parser.parse_args()
@@ -502,7 +517,7 @@ if __name__ == "__main__":
                                                                        else "damage_path")
         against = args.against or (RESULTS / "damage_extruded" if extruded else RESULTS)
         result = main_path(outdir, against, quick=args.quick, models=tuple(args.models),
-                           specimens=tuple(args.specimens), formulation=args.formulation)
+                           specimens=tuple(args.specimens), formulation=args.formulation, resume=args.resume)
     else:
         result = main(args.outdir, quick=args.quick, models=tuple(args.models), specimens=tuple(args.specimens),
                       formulation=args.formulation)

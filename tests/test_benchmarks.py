@@ -51,3 +51,40 @@ def test_bench_damage_path_rows_read_back_with_their_types(tmp_path):
     (back,) = bench.read_path_rows(tmp_path)
     assert back == row
     assert bench.read_path_rows(tmp_path / "missing") == []
+
+
+def test_bench_damage_path_study_resumes_running_only_the_missing_cases(tmp_path, monkeypatch):
+    """``--control path --resume`` keeps the stored rows and runs only the cases without one (a study stopped
+    after some runs continues where it stopped); without it the rerun specimens and models are run again."""
+    from types import SimpleNamespace
+
+    import numpy as np
+
+    bench = run.load(run.discover()["damage"])
+    ran = []
+
+    def fake_follow(sp, model, parameter, step):
+        ran.append((model, parameter, sp.elements))
+        u = np.linspace(0.0, 0.1, 5)
+        return SimpleNamespace(u=u, F=np.array([0.0, 2.0, 3.0, 1.0, 0.1]), stiffness_loss=np.zeros(sp.elements),
+                               status="fractured", steps=4, iterations=12, cutbacks=0, seconds=0.1)
+
+    monkeypatch.setattr(bench, "follow_specimen", fake_follow)
+    monkeypatch.setattr(bench, "LEVELS", {"quick": (250, 500)})
+    options = {"quick": True, "models": ("I",), "specimens": ("sharp_notch",)}
+    bench.main_path(tmp_path, tmp_path / "none", **options)
+    assert len(ran) == 4                                                  # 2 regularisations x 2 meshes
+    rows = bench.read_path_rows(tmp_path)
+    keep = [r for r in rows if not (r["regularisation"] == "strong" and r["level"] == "500")]
+    from abrakit.io import CurveWriter
+
+    with CurveWriter(tmp_path / f"{bench.NAME}.csv", bench.PATH_COLUMNS) as writer:
+        for row in keep:
+            writer.write(**bench.path_csv_row(row))
+    ran.clear()
+    bench.main_path(tmp_path, tmp_path / "none", resume=True, **options)
+    assert len(ran) == 1 and ran[0][1] == bench.REGULARISATION["I"]["strong"]
+    assert len(bench.read_path_rows(tmp_path)) == 4
+    ran.clear()
+    bench.main_path(tmp_path, tmp_path / "none", **options)
+    assert len(ran) == 4
