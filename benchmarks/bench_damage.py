@@ -340,7 +340,8 @@ def finish(outdir: Path, records: list, summary: dict) -> dict:
 
 
 def _relative(path: Path) -> str:
-    """``path`` relative to the repository's ``benchmarks/`` folder where it lies inside, else as given."""
+    """``path`` relative to the repository's root where it lies inside it (``benchmarks/results/...``), else as
+    given."""
     try:
         return str(Path(path).resolve().relative_to(RESULTS.parent.parent))
     except ValueError:

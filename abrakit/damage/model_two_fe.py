@@ -220,6 +220,8 @@ def model_two_solver(basis, material: ModelIIDamage, dirichlet, *, force_scale: 
     from ..fem import PathFollowingSolver, Solver, StepControl
 
     steps = int(check_range("steps", steps, 1, None))
+    scale = check_positive("force_scale", force_scale)
+    check_option("rate_limit", rate_limit, RATE_LIMITS)
     if control is None:
         step = end / steps
         control = StepControl(initial=step, maximum=step, minimum=step * 1e-3, growth=2.0, easy_iterations=8,
@@ -230,9 +232,7 @@ def model_two_solver(basis, material: ModelIIDamage, dirichlet, *, force_scale: 
         solver = PathFollowingSolver(basis, material, dirichlet, newton=newton, linear_solver=linear_solver,
                                      method=method, path=path)
     prescribed = solver.constraints.prescribed
-    scale = check_positive("force_scale", force_scale)
     magnitude = abs if path is not None else float
-    check_option("rate_limit", rate_limit, RATE_LIMITS)
     frozen = {}
 
     def loading(ctx):
