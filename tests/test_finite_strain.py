@@ -283,3 +283,79 @@ def test_fbar_is_refused_in_plane_strain_and_needs_the_displacement():
     kin = fbar_kinematics(1)
     with pytest.raises(ValueError, match="displacement"):
         Assembler(kin).internal_force(np.zeros((kin.nel, kin.nqp, 9)))
+
+
+# ---- the compiled kernels against the vectorised NumPy path -------------------------------------------------------
+
+
+@pytest.mark.skipif(not HAVE_NUMBA, reason="numba (extra 'fast') not installed")
+@pytest.mark.parametrize("material", [PLASTIC, ELASTIC], ids=["plastic", "hencky"])
+def test_compiled_update_equals_the_numpy_one_to_round_off(material):
+    """The kernel of :mod:`abrakit.materials._finite_strain_kernels` (Jacobi eigenvectors, explicit loops) and
+    the vectorised path (LAPACK eigh, einsum) on points with distinct, double and triple eigenvalues."""
+    rng = np.random.default_rng(6)
+    F = np.eye(3) + 0.05 * rng.standard_normal((300, 3, 3))
+    F[:5] = np.eye(3)                                            # b_e^tr = I: a triple eigenvalue
+    F[5:10] = np.diag([1.02, 1.02, 0.97])                        # a double one
+    F[10:15] = rotation_z(0.7) @ np.diag([1.1, 0.95, 0.95])      # a double one in a rotated basis
+    state = material.update(material.initial_state((300,)), F.reshape(300, 9), compiled=False).state
+    F2 = (F + 0.02 * rng.standard_normal((300, 3, 3))).reshape(300, 9)
+    F2[:5] = np.eye(3).ravel()
+    vectorised = material.update(state, F2, compiled=False)
+    compiled = material.update(state, F2, compiled=True)
+    if material is PLASTIC:
+        assert np.any(vectorised.state["alpha_p"] > state["alpha_p"])     # the return map is exercised
+    for key, value in vectorised.state.items():
+        assert np.abs(compiled.state[key] - value).max() <= 1e-12 * max(np.abs(value).max(), 1.0), key
+    assert np.abs(compiled.stress - vectorised.stress).max() <= 1e-12 * np.abs(vectorised.stress).max()
+    assert np.abs(compiled.tangent - vectorised.tangent).max() <= 1e-12 * np.abs(vectorised.tangent).max()
+
+
+@pytest.mark.skipif(not HAVE_NUMBA, reason="numba (extra 'fast') not installed")
+def test_jacobi_eigenvectors_diagonalise_exactly_also_for_repeated_eigenvalues():
+    from abrakit.materials._finite_strain_kernels import eigh3
+
+    rng = np.random.default_rng(7)
+    for lam in ([1.0, 1.0, 1.0], [2.0, 2.0, 0.5], [1e-3, 1.0, 1e3], [1.0, 1.0 + 1e-12, 3.0]):
+        Q0 = np.linalg.qr(rng.standard_normal((3, 3)))[0]
+        a = Q0 @ np.diag(lam) @ Q0.T
+        work, values, vectors = a.copy(), np.empty(3), np.empty((3, 3))
+        eigh3(work, values, vectors)
+        assert np.allclose(vectors.T @ vectors, np.eye(3), atol=1e-14)
+        assert np.allclose(vectors @ np.diag(values) @ vectors.T, a, rtol=0, atol=1e-13 * max(lam))
+        assert np.allclose(np.sort(values), np.sort(lam), rtol=1e-12)
+
+
+@pytest.mark.parametrize("compiled", [False, pytest.param(True, marks=pytest.mark.skipif(
+    not HAVE_NUMBA, reason="numba (extra 'fast') not installed"))])
+def test_an_inverted_point_is_refused_by_name_in_both_paths(compiled):
+    F = np.tile(np.eye(3).ravel(), (4, 1))
+    F[2] = np.diag([1.0, 1.0, -0.5]).ravel()
+    with pytest.raises(FloatingPointError, match="inverted"):
+        PLASTIC.update(PLASTIC.initial_state((4,)), F, compiled=compiled)
+    kin = fbar_kinematics()
+    u = np.zeros(kin.ndof)
+    u[kin.basis.nodal_dofs[1]] = -3.0 * kin.basis.mesh.p[1]                 # y -> -2 y: every element inverted
+    kin._memo[0] = None
+    with pytest.raises(FloatingPointError, match="inverted"):
+        kin.fbar_state(u, compiled=compiled)
+
+
+@pytest.mark.skipif(not HAVE_NUMBA, reason="numba (extra 'fast') not installed")
+def test_compiled_fbar_state_and_tangents_equal_the_numpy_ones():
+    axis = np.linspace(0.0, 1.0, 4)
+    graded = np.array([0.0, 0.1, 0.35, 1.0])                                 # unequal elements
+    kin = Kinematics.from_basis(vector_basis(skfem.MeshHex.init_tensor(axis, graded, axis)), bbar=True,
+                                finite_strain=True)
+    rng = np.random.default_rng(8)
+    u = 0.02 * rng.standard_normal(kin.ndof)
+    vectorised = kin.fbar_state(u, compiled=False)
+    kin._memo[0] = None
+    compiled = kin.fbar_state(u, compiled=True)
+    for name, a, b in zip(vectorised._fields, vectorised, compiled, strict=True):
+        assert np.abs(a - b).max() <= 1e-13 * np.abs(a).max(), name
+    r = PLASTIC.update(PLASTIC.initial_state((kin.nel, kin.nqp)), kin.strain(u))
+    assert np.any(r.state["alpha_p"] > 0)
+    K_numpy = kin.element_tangents(r.tangent, r.stress, u, compiled=False)
+    K_numba = kin.element_tangents(r.tangent, r.stress, u, compiled=True)
+    assert np.abs(K_numba - K_numpy).max() <= 1e-12 * np.abs(K_numpy).max()

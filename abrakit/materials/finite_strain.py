@@ -27,6 +27,7 @@ tangent equals a finite-difference derivative of P. Units: MPa, strains dimensio
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable
 from dataclasses import dataclass
 from functools import cached_property
@@ -37,6 +38,7 @@ from numpy.typing import ArrayLike
 from .. import tensors as T
 from ..compiled import HAVE_NUMBA, njit, prange
 from ..validation import check_finite, check_shape, number_arguments
+from . import _finite_strain_kernels as _kernels
 from .elastic import LinearElastic
 from .plasticity import VonMisesPlasticity
 
@@ -210,10 +212,18 @@ class LogStrainPlasticity:
             state.update(alpha_p=np.zeros(shape), dissipation=np.zeros(shape))
         return state
 
-    def update(self, state, F, dt: float = 1.0, **loading) -> DeferredTangentResponse:
-        """P, A = ∂P/∂F and the new state at the deformation gradients ``F`` (..., 9) (see module docstring)."""
+    def update(self, state, F, dt: float = 1.0, compiled: bool | None = None,
+               **loading) -> DeferredTangentResponse:
+        """P, A = ∂P/∂F and the new state at the deformation gradients ``F`` (..., 9) (see module docstring).
+
+        ``compiled`` (default: where numba is installed) runs the point-by-point kernels of
+        :mod:`abrakit.materials._finite_strain_kernels` (Jacobi eigenvectors, explicit loops: 5–10× faster on the
+        scratch's 54 000 points); ``False`` the vectorised NumPy path below. Both give the same numbers to
+        round-off (tested)."""
         F = check_shape("F", np.asarray(F, dtype=float), (..., 9))
         check_finite("F", F)
+        if HAVE_NUMBA if compiled is None else compiled:
+            return self._update_compiled(state, F)
         F = F.reshape(*F.shape[:-1], 3, 3)
         J = np.linalg.det(F)
         if np.any(J <= 0.0):
@@ -247,6 +257,36 @@ class LogStrainPlasticity:
         P = T.from_mandel(tau) @ F_inv_T
         return DeferredTangentResponse(P.reshape(*shape, 9), new_state,
                                        lambda: material_tangent(F_inv, Q, lam, response.tangent, P))
+
+    def _update_compiled(self, state, F) -> DeferredTangentResponse:
+        """:meth:`update` by :func:`~abrakit.materials._finite_strain_kernels.log_strain_update` (same formulas)."""
+        shape = F.shape[:-1]
+        m = math.prod(shape)
+        flat = np.ascontiguousarray(F).reshape(m, 3, 3)
+        Cp_inv = np.ascontiguousarray(np.broadcast_to(state["Cp_inv"], (*shape, 3, 3))).reshape(m, 3, 3)
+        base = self.base
+        plastic = self.plastic
+        alpha_p = dissipation = np.zeros(0)
+        if plastic:
+            alpha_p = np.ascontiguousarray(np.broadcast_to(state["alpha_p"], shape), dtype=float).reshape(m)
+            dissipation = np.ascontiguousarray(np.broadcast_to(state["dissipation"], shape), dtype=float).reshape(m)
+        P, eps_e, cauchy = np.empty((m, 9)), np.empty((m, 6)), np.empty((m, 6))
+        Cp_new, J, F_inv = np.empty((m, 3, 3)), np.empty(m), np.empty((m, 3, 3))
+        Q, lam, D = np.empty((m, 3, 3)), np.empty((m, 3)), np.empty((m, 6, 6))
+        alpha_new, dissipation_new = np.empty_like(alpha_p), np.empty_like(dissipation)
+        r_p, K_H = (base.r_p, base.K_H) if plastic else (0.0, 0.0)
+        smallest = _kernels.log_strain_update(flat, Cp_inv, alpha_p, dissipation, base.stiffness, 2.0 * base.mu,
+                                              r_p, K_H, plastic, P, Cp_new, alpha_new, dissipation_new, eps_e,
+                                              cauchy, J, F_inv, Q, lam, D)
+        if not smallest > 0.0:
+            raise FloatingPointError(f"det F = {smallest:.3g} <= 0: an element is inverted (cut the step back)")
+        new_state = {"J": J.reshape(shape), "eps_e": eps_e.reshape(*shape, 6), "cauchy": cauchy.reshape(*shape, 6),
+                     "Cp_inv": Cp_new.reshape(*shape, 3, 3) if plastic else state["Cp_inv"]}
+        if plastic:
+            new_state.update(alpha_p=alpha_new.reshape(shape), dissipation=dissipation_new.reshape(shape))
+        return DeferredTangentResponse(
+            P.reshape(*shape, 9), new_state,
+            lambda: _kernels.log_strain_tangent(F_inv, Q, lam, D, P).reshape(*shape, 9, 9))
 
     def stored_energy(self, state) -> np.ndarray:
         """ψ(ε_e) + ½ K_H α_p² per unit reference volume (MPa): the small-strain energy of the log elastic strain."""
