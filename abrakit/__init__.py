@@ -5,11 +5,15 @@ The chapters' modules load on first use (``abrakit.dem``, ``abrakit.fem``, ...),
 
 import importlib
 
+from .threads import configure_threads
+
+configure_threads()                 # before numba, MKL and the OpenMP runtimes load (abrakit.threads says why)
+
 __version__ = "0.1.0"
 
 #: The subpackages and modules reachable as attributes of the package.
 MODULES = ("tensors", "evolution", "identification", "dem", "experiments", "materials", "fem", "damage", "scratch",
-           "wear", "fatigue", "reproduction", "validation", "io", "cli")
+           "wear", "fatigue", "reproduction", "validation", "io", "cli", "threads")
 __all__ = ["__version__", *MODULES]
 
 

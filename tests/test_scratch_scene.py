@@ -356,3 +356,33 @@ def test_resume_refuses_the_checkpoint_of_another_scene(tmp_path, monkeypatch):
             run_scratch(RESUME_SCENE, output=tmp_path, vtu_every=0, checkpoint_every=1, linear_solver="lu")
     with pytest.raises(ValueError, match="another scratch run"):
         run_scratch(RESUME_SCENE.with_(mu=0.2), output=tmp_path, vtu_every=0, resume=True)
+
+
+def test_a_stopped_scratch_names_its_cause_keeps_its_last_increment_and_resumes(tmp_path):
+    """A step that cannot converge (here: Newton allowed two iterations) stops the run with a message that says
+    where it stopped and why (the largest residual's place: a contact node with its state, the bulk, or an
+    inverted element) and saves the last converged increment, from which ``resume=True`` finishes the scene."""
+    from abrakit.fem import StepFailed
+
+    starved = NewtonOptions(residual_tol=1e-4, increment_tol=1e-3, max_iterations=2, divergence_check_after=10)
+    with pytest.raises(StepFailed) as stopped:
+        run_scratch(RESUME_SCENE, output=tmp_path, vtu_every=0, checkpoint_every=0, linear_solver="lu",
+                    newton=starved)
+    message = str(stopped.value)
+    assert message.startswith("scratch stopped at tau = ")
+    assert any(cause in message for cause in ("[contact: ", "[bulk: ", "[element inversion: "))
+    assert "resume=True" in message and (tmp_path / "last_converged.npz").exists()
+    rows = len(np.genfromtxt(tmp_path / "forces.csv", delimiter=",", names=True))
+    assert rows >= 1
+    resumed = run_scratch(RESUME_SCENE, output=tmp_path, vtu_every=0, linear_solver="lu", newton=RESUME_NEWTON,
+                          resume=True)
+    assert resumed.groove_unloaded is not None and resumed.increments > rows
+
+
+def test_the_diagnosis_names_an_inverted_element():
+    from abrakit.scratch.scene import st52_material
+
+    specimen = build_specimen(RESUME_SCENE)
+    solver = LineSearchSolver(specimen.basis, st52_material("elastic"), specimen.conditions)
+    assert solver.diagnose("det F = -3 <= 0: an element is inverted").startswith("element inversion")
+    assert solver.diagnose("diverging") == "no residual was evaluated"

@@ -50,8 +50,9 @@ import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 import skfem
 
-from abrakit.fem import Dirichlet, LinearSolveError, NewtonOptions, Solver, StepControl, vector_basis
+from abrakit.fem import Dirichlet, LinearSolveError, NewtonOptions, Solver, StepControl, StepFailed, vector_basis
 from abrakit.fem.linsolve import DirectSolver, pardiso_available, rigid_body_modes
+from abrakit.fem.solver import NewtonFailure
 from abrakit.io import write_json
 from abrakit.materials import LinearElastic, LogStrainPlasticity, ModelIIDamage, VonMisesPlasticity
 from abrakit.scratch.budget import VolumeBudget
@@ -514,8 +515,48 @@ class LineSearchSolver(Solver):
         key = (ctx.load_factor, ctx.delta, id(state_old))
         self._last = (state_old, ctx, key)
         if cache is not None and cache[0] == key and np.array_equal(cache[1], u):
-            return cache[2]
-        return super().evaluate(u, state_old, ctx)
+            evaluation = cache[2]
+        else:
+            evaluation = super().evaluate(u, state_old, ctx)
+        self._last_residual = (u, evaluation[1])
+        return evaluation
+
+    def newton(self, u_trial, state_old, ctx, lift=None):
+        """:meth:`abrakit.fem.Solver.newton`; a failure's reason names where it happened (:meth:`diagnose`)."""
+        self._last_residual = None
+        try:
+            return super().newton(u_trial, state_old, ctx, lift=lift)
+        except NewtonFailure as failure:
+            failure.reason = f"{failure.reason} [{self.diagnose(failure.reason)}]"
+            failure.args = (failure.reason,)
+            raise
+
+    def diagnose(self, reason: str = "") -> str:
+        """The cause of a failed Newton step in a scratch, from the last residual: ``element inversion`` (det F ≤ 0
+        under the tip), ``contact`` (the largest free residual sits at a surface node of the contact term: its
+        status and gap are named, the signature of a node chattering between states), or ``bulk`` (inside the
+        block, where plasticity switches; position named). Positions in µm."""
+        if "inverted" in reason:
+            return ("element inversion: det F <= 0 under the tip; the slide step is too large for the mesh, or "
+                    "the top layer too thin for the depth")
+        if getattr(self, "_last_residual", None) is None:
+            return "no residual was evaluated"
+        u, residual = self._last_residual
+        free = self.constraints.free
+        dof = int(free[np.argmax(np.abs(residual[free]))])
+        where = np.round(self.kin.basis.doflocs[:, dof] * 1e3, 2)
+        for term in self.extra_terms:
+            nodes = np.nonzero(np.any(getattr(term, "dofs", np.empty((0, 3))) == dof, axis=1))[0]
+            if nodes.size:
+                pending = getattr(term, "_pending", None)
+                status = ("open", "stick", "slip")[int(pending["state"]["status"][nodes[0]])] if pending else "?"
+                gap = term.indenter.gap((term.reference[nodes[0]] + u[term.dofs[nodes[0]]])[None],
+                                        np.asarray(term.position(self._last[1].load_factor), dtype=float)).gap[0]
+                return (f"contact: the largest residual, {abs(residual[dof]):.2e} N, sits at surface node "
+                        f"{int(term.nodes[nodes[0]])} at (x, z) = ({where[0]:g}, {where[2]:g}) um, {status}, gap "
+                        f"{gap * 1e6:.3g} nm: a contact node switching between states (chatter)")
+        return (f"bulk: the largest residual, {abs(residual[dof]):.2e} N, sits inside the block at "
+                f"(x, y, z) = ({where[0]:g}, {where[1]:g}, {where[2]:g}) um")
 
     def _free_norm(self, residual):
         return float(np.linalg.norm(residual[self.constraints.free]))
@@ -762,8 +803,22 @@ def run_scratch(scene: ScratchScene = ScratchScene(), *, output=None, progress: 
                 continue
             solver.control = StepControl(initial=dtau, maximum=dtau, minimum=dtau * 1e-3, easy_iterations=7,
                                          extrapolate=False)                   # see the module docstring
-            result = solver.run(start=start, end=end, u0=u, state0=state, progress=progress, on_step=on_step,
-                                continuation=continuation if start < tau_done else None)
+            try:
+                result = solver.run(start=start, end=end, u0=u, state0=state, progress=progress, on_step=on_step,
+                                    continuation=continuation if start < tau_done else None)
+            except StepFailed as failure:       # keep the last converged increment, then say where the run stopped
+                res = failure.result
+                if checkpoint is not None:
+                    save(res.u, res.state, float(res.load_factors[-1]), iterations + int(res.iterations.sum()),
+                         res.continuation)
+                where = f"; its last converged increment is saved in {checkpoint} (resume=True goes on from it)" \
+                    if checkpoint is not None else ""
+                slid = min(max(failure.load_factor - 1.0, 0.0), 1.0) * scene.slide * 1e3
+                raise StepFailed(f"scratch stopped at tau = {failure.load_factor:.6g} "
+                                 f"({path.phase(failure.load_factor)}, slide {slid:.4g} um of {scene.slide * 1e3:g}):"
+                                 f" {failure.reason}{where}",
+                                 load_factor=failure.load_factor, u=failure.u, state=failure.state,
+                                 reason=failure.reason, result=res, checkpoint=checkpoint) from failure
             u, state = result.u, result.state
             iterations += int(result.iterations.sum())
             cutbacks += result.cutbacks

@@ -1,0 +1,85 @@
+"""Thread counts of the numerical libraries, chosen in one place (at ``import abrakit``).
+
+abrakit's hot paths run in up to four thread pools: OpenBLAS (numpy, scipy), MKL (PARDISO, through Intel's
+OpenMP runtime), numba's parallel kernels (GNU OpenMP) and, in the test suite, pytest-xdist's worker processes.
+Left alone, each pool starts one thread per core, and an OpenMP thread that has finished its parallel region keeps
+spinning on its core for a while (200 ms in Intel's runtime) waiting for more work: the next library's threads
+then share the cores with spinning ones. Measured on the 2-core machine (``benchmarks/bench_threads.py``):
+
+* the scratch's Newton iteration (24 510 DOF, finite strain): PARDISO's factorisation and solve 452 → 376 ms,
+  the residual evaluation 88 → 69 ms with passively waiting OpenMP threads;
+* two test workers each starting two threads per pool put four busy threads on two cores.
+
+So, unless the user has set them: OpenMP threads wait passively (``OMP_WAIT_POLICY=PASSIVE``,
+``KMP_BLOCKTIME=0``), and every pool gets ``cores // workers`` threads, where ``workers`` is the number of
+processes sharing the machine (pytest-xdist's ``PYTEST_XDIST_WORKER_COUNT``; 1 otherwise). ``ABRAKIT_THREADS``
+overrides the count. Environment variables act on libraries that load later (MKL, numba, the OpenMP runtimes
+are loaded lazily by abrakit); libraries already loaded (numpy's OpenBLAS, when numpy was imported first) are
+limited at run time through threadpoolctl. :func:`limit_threads` changes the count later, in one call.
+"""
+
+from __future__ import annotations
+
+import os
+
+__all__ = ["configure_threads", "default_threads", "limit_threads"]
+
+_COUNT_VARIABLES = ("OMP_NUM_THREADS", "MKL_NUM_THREADS", "OPENBLAS_NUM_THREADS", "NUMBA_NUM_THREADS")
+_WAIT_VARIABLES = {"OMP_WAIT_POLICY": "PASSIVE", "KMP_BLOCKTIME": "0"}
+
+
+def _cores() -> int:
+    try:
+        return len(os.sched_getaffinity(0))
+    except AttributeError:                                        # pragma: no cover - not on Linux
+        return os.cpu_count() or 1
+
+
+def default_threads() -> int:
+    """Threads per pool: ``ABRAKIT_THREADS`` if set (a positive integer), else the cores this process may use
+    divided by the processes sharing them (pytest-xdist workers), at least 1."""
+    chosen = os.environ.get("ABRAKIT_THREADS")
+    if chosen:
+        if not chosen.strip().isdigit() or int(chosen) < 1:
+            raise ValueError(f"ABRAKIT_THREADS must be a positive integer, got {chosen!r}")
+        return int(chosen)
+    workers = os.environ.get("PYTEST_XDIST_WORKER_COUNT", "1")
+    workers = int(workers) if workers.strip().isdigit() and int(workers) > 0 else 1
+    return max(1, _cores() // workers)
+
+
+def configure_threads() -> int:
+    """Set the thread policy of the module docstring for this process (where the user has not); returns the count.
+    Called once by ``import abrakit``."""
+    threads = default_threads()
+    for name, value in _WAIT_VARIABLES.items():
+        os.environ.setdefault(name, value)
+    for name in _COUNT_VARIABLES:
+        os.environ.setdefault(name, str(threads))
+    _limit_loaded(int(os.environ["OPENBLAS_NUM_THREADS"]) if os.environ["OPENBLAS_NUM_THREADS"].isdigit()
+                  else threads)
+    return threads
+
+
+def _limit_loaded(threads: int) -> None:
+    """Limit the BLAS/OpenMP pools already loaded in this process (threadpoolctl; nothing if it is missing)."""
+    try:
+        from threadpoolctl import threadpool_limits
+    except ImportError:                                           # pragma: no cover - a dependency
+        return
+    threadpool_limits(limits=threads)
+
+
+def limit_threads(threads: int) -> None:
+    """Use ``threads`` threads in every pool from now on: the loaded BLAS/OpenMP libraries (threadpoolctl) and
+    numba's parallel kernels (up to the count numba started with)."""
+    if isinstance(threads, bool) or not isinstance(threads, int) or threads < 1:
+        raise ValueError(f"threads must be a positive integer, got {threads!r}")
+    os.environ["ABRAKIT_THREADS"] = str(threads)
+    _limit_loaded(threads)
+    from .compiled import HAVE_NUMBA
+
+    if HAVE_NUMBA:
+        import numba
+
+        numba.set_num_threads(min(threads, numba.config.NUMBA_NUM_THREADS))

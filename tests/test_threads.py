@@ -1,0 +1,63 @@
+"""The thread policy of :mod:`abrakit.threads`: one count per pool, passive OpenMP waits, the user's word first."""
+
+import json
+import os
+import subprocess
+import sys
+
+import pytest
+
+from abrakit.threads import default_threads, limit_threads
+
+PROBE = """
+import json, os, numpy
+import abrakit
+from threadpoolctl import threadpool_info
+print(json.dumps({"env": {k: os.environ.get(k) for k in ("OMP_WAIT_POLICY", "KMP_BLOCKTIME", "OMP_NUM_THREADS",
+                                                           "MKL_NUM_THREADS", "NUMBA_NUM_THREADS")},
+                  "pools": [p["num_threads"] for p in threadpool_info()]}))
+"""
+
+
+def probe(**env):
+    clean = {k: v for k, v in os.environ.items()
+             if k not in ("OMP_WAIT_POLICY", "KMP_BLOCKTIME", "OMP_NUM_THREADS", "MKL_NUM_THREADS",
+                          "NUMBA_NUM_THREADS", "OPENBLAS_NUM_THREADS", "ABRAKIT_THREADS", "PYTEST_XDIST_WORKER_COUNT")}
+    out = subprocess.run([sys.executable, "-c", PROBE], env=clean | env, capture_output=True, text=True, check=True)
+    return json.loads(out.stdout.strip().splitlines()[-1])
+
+
+def test_workers_share_the_cores_and_openmp_waits_passively():
+    cores = len(os.sched_getaffinity(0))
+    seen = probe(PYTEST_XDIST_WORKER_COUNT=str(cores))
+    assert seen["env"]["OMP_WAIT_POLICY"] == "PASSIVE" and seen["env"]["KMP_BLOCKTIME"] == "0"
+    assert seen["env"]["OMP_NUM_THREADS"] == seen["env"]["MKL_NUM_THREADS"] == seen["env"]["NUMBA_NUM_THREADS"] == "1"
+    assert seen["pools"] and max(seen["pools"]) == 1          # numpy's OpenBLAS, loaded before abrakit, limited too
+
+
+def test_the_users_settings_are_kept():
+    seen = probe(OMP_WAIT_POLICY="ACTIVE", ABRAKIT_THREADS="1", MKL_NUM_THREADS="2")
+    assert seen["env"]["OMP_WAIT_POLICY"] == "ACTIVE"
+    assert seen["env"]["MKL_NUM_THREADS"] == "2" and seen["env"]["OMP_NUM_THREADS"] == "1"
+
+
+def test_default_threads_divides_the_cores_by_the_workers(monkeypatch):
+    monkeypatch.delenv("ABRAKIT_THREADS", raising=False)
+    cores = len(os.sched_getaffinity(0))
+    monkeypatch.setenv("PYTEST_XDIST_WORKER_COUNT", "1")
+    assert default_threads() == cores
+    monkeypatch.setenv("PYTEST_XDIST_WORKER_COUNT", str(4 * cores))
+    assert default_threads() == 1
+
+
+@pytest.mark.parametrize("bad", ["0", "-2", "two", "1.5"])
+def test_a_bad_thread_count_is_refused_by_name(monkeypatch, bad):
+    monkeypatch.setenv("ABRAKIT_THREADS", bad)
+    with pytest.raises(ValueError, match="ABRAKIT_THREADS"):
+        default_threads()
+
+
+@pytest.mark.parametrize("bad", [0, -1, 1.5, True, "2"])
+def test_limit_threads_refuses_what_is_not_a_positive_integer(bad):
+    with pytest.raises(ValueError, match="threads"):
+        limit_threads(bad)
