@@ -111,7 +111,8 @@ def _outer(a, b):
     return a[:, :, None] * b[:, None, :]
 
 
-def contact_response(gap, normal, increment, state, *, c_N, c_T=None, mu=0.1, normal_gradient=None):
+def contact_response(gap, normal, increment, state, *, c_N, c_T=None, mu=0.1, normal_gradient=None,
+                     held_in_stick=None):
     """Penalty contact with Coulomb friction at n points, Eq. (8.1)–(8.4); see the module docstring.
 
     gap: (n,) signed normal gap g_N, mm (> 0 open);
@@ -121,7 +122,10 @@ def contact_response(gap, normal, increment, state, *, c_N, c_T=None, mu=0.1, no
     state: old state dict of :func:`initial_state` (not modified);
     c_N, c_T: normal and tangential penalty stiffness, N/mm³ (c_T defaults to c_N);
     mu: Coulomb friction coefficient (≥ 0), the seed's μ = 0.1;
-    normal_gradient: (n, 3, 3) ∂n/∂x of the indenter, 1/mm, or None for a flat surface (geometric terms dropped).
+    normal_gradient: (n, 3, 3) ∂n/∂x of the indenter, 1/mm, or None for a flat surface (geometric terms dropped);
+    held_in_stick: (n,) bool or None: closed points that stick whatever the Coulomb test says, t_T = −c_T e_tr
+        (the active-set hold of :class:`~abrakit.scratch.IndenterContact` for points that chatter between stick
+        and slip; |t_T| may then exceed μ p by what the trial exceeds the cone).
 
     Returns a :class:`ContactResponse` (traction, tangent, pressure, new state).
     """
@@ -156,6 +160,8 @@ def contact_response(gap, normal, increment, state, *, c_N, c_T=None, mu=0.1, no
         de_tr = de_tr - np.einsum("ni,ni->n", n, a)[:, None, None] * G - _outer(n, np.einsum("nki,nk->ni", G, a))
     norm_tr = np.linalg.norm(e_tr, axis=1)
     slip = closed & (c_T * norm_tr > mu * p)                                    # Coulomb limit, Eq. (8.2)
+    if held_in_stick is not None:
+        slip &= ~check_shape("held_in_stick", np.asarray(held_in_stick, dtype=bool), (n_pts,))
     stick = closed & ~slip
 
     s = e_tr / np.where(slip, norm_tr, 1.0)[:, None]

@@ -858,6 +858,11 @@ def run_scratch(scene: ScratchScene = ScratchScene(), *, output=None, progress: 
         newton_iterations=iterations, cutbacks=cutbacks, budget=recorder.budget,
         linear_solver=getattr(solver.linear_solver, "name", "custom"), u=u, state=state, specimen=specimen,
         contact=contact, output=out, notes=notes)
+    if contact.holds:
+        result.notes.append(
+            f"stick/slip chatter: {len(contact.holds)} increments held {max(h[1] for h in contact.holds)} or fewer "
+            f"surface nodes in stick; their tangential traction exceeded the Coulomb limit mu p by at most "
+            f"{100 * max(h[2] for h in contact.holds):.2g} % of mu p")
     ls = solver.linear_solver
     if hasattr(ls, "factorisations"):
         result.notes.append(f"linear solver {ls.name}: {ls.analyses} analyses, {ls.factorisations} numerical "
