@@ -22,7 +22,7 @@ def main(outdir="results/examples"):
     budgets = {}
     with CurveWriter(path, ["kinematics", *(f"{t}_um3" for t in TERMS)]) as out:
         for kinematics in ("small", "finite"):
-            result = run_scratch(DEMO_SCENE.with_(kinematics=kinematics), vtu_every=0)
+            result = run_scratch(DEMO_SCENE.with_(kinematics=kinematics, bbar=False), vtu_every=0)
             b = budgets[kinematics] = result.budget.as_dict(scale=1e9)                      # mm3 -> um3
             out.write(kinematics=kinematics, **{f"{t}_um3": b[t] for t in TERMS})
             print(f"{kinematics:6s}: groove {b['groove']:.0f} + sink {b['sink']:.0f} = shoulders {b['shoulders']:.0f} "
