@@ -110,12 +110,14 @@ DECISIONS: tuple[Decision, ...] = (
              ("tests/test_finite_strain.py::test_fbar_tangent_is_the_derivative_of_its_force",), "scratch_volume",
              "choice"),
     Decision("stick/slip chatter of the scratch's contact nodes", "silent (Abaqus' penalty contact)",
-             "a node that switches stick <-> slip (or reverses its slip) twice in one increment sticks for the rest "
-             "of it; the excess of its tangential traction over μp is reported",
+             "a node that switches stick <-> slip (or reverses its slip) twice in one increment slips along its "
+             "last slip direction for the rest of it (|t_T| = μp); the held nodes' share of the Coulomb force is "
+             "reported",
              "nodes pushed along at the front of the prow sit at the cone's edge with a slip of 0.3 nm per step; "
-             "Newton cycled at their friction force and the demo-mesh scene stopped at 97 % of its slide",
-             ("tests/test_scratch_scene.py::test_a_node_that_chatters_between_stick_and_slip_is_held_in_stick_for_the_"
-              "rest_of_the_step",), "scratch", "choice"),
+             "Newton cycled at their friction force and the demo-mesh scene stopped at 97 % of its slide; holding "
+             "them in stick left the cone by up to 84 % of the contact's Coulomb force",
+             ("tests/test_scratch_scene.py::test_a_node_that_chatters_between_stick_and_slip_slips_along_a_held_"
+              "direction_for_the_rest_of_the_step",), "scratch", "choice"),
     Decision("α of the bond's yield surface, seed 002 Eq. (18)", "garbled: '.2K 9 8 9 L M − 8 9 L M / K9'",
              "α = √(2cσ_t tan φ − σ_t² tan² φ)/c",
              "the only reading under which the surface passes through both strengths the prose names: σ_t(1 − D) at "

@@ -112,7 +112,7 @@ def _outer(a, b):
 
 
 def contact_response(gap, normal, increment, state, *, c_N, c_T=None, mu=0.1, normal_gradient=None,
-                     held_in_stick=None):
+                     held_direction=None):
     """Penalty contact with Coulomb friction at n points, Eq. (8.1)–(8.4); see the module docstring.
 
     gap: (n,) signed normal gap g_N, mm (> 0 open);
@@ -123,9 +123,10 @@ def contact_response(gap, normal, increment, state, *, c_N, c_T=None, mu=0.1, no
     c_N, c_T: normal and tangential penalty stiffness, N/mm³ (c_T defaults to c_N);
     mu: Coulomb friction coefficient (≥ 0), the seed's μ = 0.1;
     normal_gradient: (n, 3, 3) ∂n/∂x of the indenter, 1/mm, or None for a flat surface (geometric terms dropped);
-    held_in_stick: (n,) bool or None: closed points that stick whatever the Coulomb test says, t_T = −c_T e_tr
-        (the active-set hold of :class:`~abrakit.scratch.IndenterContact` for points that chatter between stick
-        and slip; |t_T| may then exceed μ p by what the trial exceeds the cone).
+    held_direction: (n, 3) or None: rows of unit vectors for closed points held in slip along that fixed
+        direction, t_T = −μ p s_held (zero rows: not held). The active-set hold of
+        :class:`~abrakit.scratch.IndenterContact` for points that chatter between stick and slip or reverse their
+        slip: |t_T| = μ p stays on the cone and the law is smooth; only the direction is frozen.
 
     Returns a :class:`ContactResponse` (traction, tangent, pressure, new state).
     """
@@ -160,11 +161,16 @@ def contact_response(gap, normal, increment, state, *, c_N, c_T=None, mu=0.1, no
         de_tr = de_tr - np.einsum("ni,ni->n", n, a)[:, None, None] * G - _outer(n, np.einsum("nki,nk->ni", G, a))
     norm_tr = np.linalg.norm(e_tr, axis=1)
     slip = closed & (c_T * norm_tr > mu * p)                                    # Coulomb limit, Eq. (8.2)
-    if held_in_stick is not None:
-        slip &= ~check_shape("held_in_stick", np.asarray(held_in_stick, dtype=bool), (n_pts,))
+    held = np.zeros(n_pts, dtype=bool)
+    if held_direction is not None:
+        s_held = check_shape("held_direction", np.asarray(held_direction, dtype=float), (n_pts, 3))
+        held = closed & (np.linalg.norm(s_held, axis=1) > 0.0)
+        slip |= held
     stick = closed & ~slip
 
     s = e_tr / np.where(slip, norm_tr, 1.0)[:, None]
+    if held.any():
+        s[held] = s_held[held]
     t_T = np.where(slip[:, None], -mu * p[:, None] * s, -c_T * e_tr)            # Eq. (8.4)
     t_T = np.where(closed[:, None], t_T, 0.0)
     traction = p[:, None] * n + t_T
@@ -173,13 +179,14 @@ def contact_response(gap, normal, increment, state, *, c_N, c_T=None, mu=0.1, no
     if G is not None:
         J = J + p[:, None, None] * G
     J_stick = J - c_T * de_tr
-    ratio = np.where(slip, mu * p / np.where(slip, norm_tr, 1.0), 0.0)
+    ratio = np.where(slip & ~held, mu * p / np.where(slip, norm_tr, 1.0), 0.0)        # a held s does not turn
     J_slip = J + mu * c_N * _outer(s, n) - ratio[:, None, None] * np.einsum("nij,njk->nik", eye - _outer(s, s), de_tr)
     tangent = np.where(slip[:, None, None], J_slip, np.where(stick[:, None, None], J_stick, 0.0))
 
     e_new = np.where(slip[:, None], (mu * p / c_T)[:, None] * s, e_tr)
     e_new = np.where(closed[:, None], e_new, 0.0)
-    slip_path = np.asarray(state["slip_path"], dtype=float) + np.where(slip, norm_tr - mu * p / c_T, 0.0)
+    slip_path = np.asarray(state["slip_path"], dtype=float) + np.where(slip, np.maximum(norm_tr - mu * p / c_T, 0.0),
+                                                                       0.0)
     status = np.where(slip, SLIP, np.where(stick, STICK, OPEN)).astype(np.int8)
     new_state = {"elastic_slip": e_new, "slip_path": slip_path, "status": status}
     return ContactResponse(traction, tangent, p, new_state)

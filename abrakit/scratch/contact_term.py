@@ -27,16 +27,17 @@ commit cannot go unnoticed. Rejected Newton iterates and cut-back steps never to
 
 Stick/slip chatter. The Coulomb law is only piecewise smooth: a node whose trial tangential traction lies at the
 cone's edge can switch between stick and slip at every Newton iteration, and Newton then cycles at a residual of
-the size of the two laws' difference (measured on the demo mesh under finite strain: four nodes at the front of
-the prow flipping in every iteration, the residual stalling at 1e-3 N whatever the step, the run stopping at 97 %
-of its slide). These nodes are pushed along by the tip: their trial elastic slip over a 1.5 µm step is about
-0.3 nm, at the cone's edge, so the slip direction e_tr/|e_tr| is ill-defined and the slip law has a kink there
-(holding them in slip was tried: the residual then halves per iteration and stalls again). The term therefore
-holds a node in stick for the rest of a load step once it has flipped between stick and slip, or reversed its
-slip, :data:`CHATTER_FLIPS` times in that step (an active-set hold: t_T = −c_T e_tr is smooth, Newton converges).
-Where the converged trial lies outside the cone, the held node's tangential traction exceeds μ p by
-c_T |e_tr| − μ p, which is reported (:attr:`IndenterContact.holds`, the scratch's notes). A step without chatter
-is computed exactly as before.
+the size of the two laws' difference (measured on the demo mesh under finite strain: four to eight nodes at the
+front of the prow switching in every iteration, the residual stalling at 1e-3 N whatever the step, the run
+stopping at 97 % of its slide). These nodes are pushed along by the tip: their trial elastic slip over a 1.5 µm
+step is about 0.3 nm, so their slip direction e_tr/|e_tr| is ill-defined and they also reverse it from one
+iteration to the next. The term therefore holds a node that has switched between stick and slip, or reversed its
+slip, :data:`CHATTER_FLIPS` times within one load step in slip along its last slip direction for the rest of the
+step (an active-set hold: t_T = −μ p s_held is smooth, Newton converges, and |t_T| = μ p stays on the Coulomb
+cone). Only the direction of the held nodes' friction is frozen; their share of the contact's Coulomb force
+Σ A μ p bounds what that can change and is reported (:attr:`IndenterContact.holds`, the scratch's notes). Holding
+them in stick was tried first: it converges too, but the held tangential traction left the cone, in some
+increments by 84 % of the whole contact's Coulomb force. A step without chatter is computed exactly as before.
 
 Forces are reported for the whole grain (``symmetry_factor`` = 2 for the half model with the plane x = 0):
 the normal force F_N pressing the tip up (+y), the tangential force F_T the tip needs to be dragged along +z,
@@ -58,8 +59,8 @@ from abrakit.validation import check_positive
 __all__ = ["CHATTER_FLIPS", "ContactForces", "IndenterContact", "nodal_areas", "surface_facets"]
 
 CHATTER_FLIPS = 2
-"""Stick/slip switches (or reversals of the slip) of one node within one load step after which it is held in stick
-for the rest of the step."""
+"""Stick/slip switches (or reversals of the slip) of one node within one load step after which it slips along its
+last slip direction for the rest of the step."""
 
 
 class ContactForces(NamedTuple):
@@ -149,7 +150,7 @@ class IndenterContact:
     # ---- history ---------------------------------------------------------------------------------------------
     def reset(self, load_factor: float | None = None, u: np.ndarray | None = None) -> None:
         """Forget all contact history (virgin surface); the next evaluation fixes the start of the first step."""
-        self.holds: list[tuple[float, int, float]] = []   # (tau, nodes held in stick, largest relative excess)
+        self.holds: list[tuple[float, int, float]] = []   # (tau, nodes held, their share of the Coulomb force)
         self._step = None
         self.state = initial_state(self.nodes.size)
         self._tau = load_factor
@@ -164,7 +165,7 @@ class IndenterContact:
         u = np.asarray(u, dtype=float)
         pending = self._pending
         if pending is None or pending["tau"] != load_factor or not np.array_equal(pending["u"], u):
-            held = self._held if self._step is not None and self._step[0] == load_factor else None
+            held = self._held_direction if self._step is not None and self._step[0] == load_factor else None
             pending = self._evaluate(u, load_factor, self._tau, self._u, held)
         if pending["held"] is not None:
             self.holds.append((float(load_factor), *pending["held"]))
@@ -210,21 +211,34 @@ class IndenterContact:
         if step != self._step:                             # a new step (or a retry after a cutback): no hold yet
             self._step, self._seen = step, None
             self._flips = np.zeros(self.nodes.size, dtype=int)
-            self._held = np.zeros(self.nodes.size, dtype=bool)
+            self._held_direction = np.zeros((self.nodes.size, 3))     # zero rows: not held
+            self._slip_direction = np.zeros((self.nodes.size, 3))     # the last slip direction seen in the step
         try:
-            pending = self._evaluate(u, ctx.load_factor, self._tau, self._u, self._held)
+            pending = self._evaluate(u, ctx.load_factor, self._tau, self._u, self._held_direction)
         except ValueError:
             # a node deeper than the tip radius: unphysical iterate; a non-finite residual makes the solver cut back
             return np.full(self.ndof, np.nan), None
         status, slip = pending["state"]["status"], pending["state"]["elastic_slip"]
-        if self._seen is not None:     # count stick <-> slip switches and reversals of the slip; hold the chatterers
+        if self._seen is not None and self.mu > 0.0:   # count stick <-> slip switches and reversals of the slip;
+            # hold the chatterers (frictionless contact has no tangential law to chatter)
             seen, seen_slip = self._seen
             reversed_ = (status == SLIP) & (seen == SLIP) & (np.sum(slip * seen_slip, axis=1) < 0.0)
             self._flips += (((status == STICK) & (seen == SLIP)) | ((status == SLIP) & (seen == STICK)) | reversed_)
-            self._held = self._held | (self._flips >= CHATTER_FLIPS)
+            length = np.linalg.norm(slip, axis=1)
+            sliding = (status == SLIP) & (length > 0.0)
+            self._slip_direction[sliding] = slip[sliding] / length[sliding, None]
+            new = ((self._flips >= CHATTER_FLIPS) & ~self.held & (np.linalg.norm(self._slip_direction, axis=1) > 0.0))
+            self._held_direction[new] = self._slip_direction[new]
         self._seen = (status, slip)
         self._pending = pending
         return pending["residual"], pending["tangent"]
+
+    @property
+    def held(self) -> np.ndarray:
+        """Which surface nodes slip along a held direction in the current step (bool, one per node)."""
+        if self._step is None:
+            return np.zeros(self.nodes.size, dtype=bool)
+        return np.linalg.norm(self._held_direction, axis=1) > 0.0
 
     def _evaluate(self, u, load_factor, tau_old, u_old, held=None):
         tip = np.asarray(self.position(load_factor), dtype=float)
@@ -236,15 +250,14 @@ class IndenterContact:
         held = None if held is None or not held.any() else held.copy()
         response = contact_response(
             surface.gap, surface.normal, increment, self.state, c_N=self.c_N, c_T=self.c_T,
-            mu=self.mu, normal_gradient=surface.normal_gradient if self.curvature else None, held_in_stick=held)
+            mu=self.mu, normal_gradient=surface.normal_gradient if self.curvature else None, held_direction=held)
         closed = response.state["status"] != OPEN
         hold = None
-        if held is not None and np.any(held & closed):
-            k = held & closed                              # how far the held nodes' tractions lie outside the cone
-            traction = self.c_T * np.linalg.norm(response.state["elastic_slip"][k], axis=1)
-            limit = self.mu * response.pressure[k]
-            excess = np.where(limit > 0.0, (traction - limit) / np.where(limit > 0.0, limit, 1.0), 0.0)
-            hold = (int(k.sum()), float(max(excess.max(), 0.0)))
+        if held is not None and np.any((np.linalg.norm(held, axis=1) > 0.0) & closed):
+            k = (np.linalg.norm(held, axis=1) > 0.0) & closed        # the held nodes' share of the Coulomb force
+            share = self.areas[k] @ response.pressure[k]
+            capacity = self.areas[closed] @ response.pressure[closed]
+            hold = (int(k.sum()), float(share / capacity) if capacity > 0.0 else 0.0)
         residual = np.zeros(self.ndof)
         residual[self.dofs] = -self.areas[:, None] * response.traction
         tangent = None

@@ -859,10 +859,13 @@ def run_scratch(scene: ScratchScene = ScratchScene(), *, output=None, progress: 
         linear_solver=getattr(solver.linear_solver, "name", "custom"), u=u, state=state, specimen=specimen,
         contact=contact, output=out, notes=notes)
     if contact.holds:
+        sliding = [h for h in contact.holds if path.phase(h[0]) == "scratching"]
+        during = (f", at most {100 * max(h[2] for h in sliding):.2g} % while sliding ({len(sliding)} increments)"
+                  if sliding else ", none while sliding")
         result.notes.append(
             f"stick/slip chatter: {len(contact.holds)} increments held {max(h[1] for h in contact.holds)} or fewer "
-            f"surface nodes in stick; their tangential traction exceeded the Coulomb limit mu p by at most "
-            f"{100 * max(h[2] for h in contact.holds):.2g} % of mu p")
+            f"surface nodes in slip along a frozen direction; they carried at most "
+            f"{100 * max(h[2] for h in contact.holds):.2g} % of the contact's Coulomb force sum(A mu p){during}")
     ls = solver.linear_solver
     if hasattr(ls, "factorisations"):
         result.notes.append(f"linear solver {ls.name}: {ls.analyses} analyses, {ls.factorisations} numerical "

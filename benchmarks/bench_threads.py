@@ -1,0 +1,159 @@
+"""Benchmark of the thread policy (:mod:`abrakit.threads`): the pieces of one scratch Newton iteration under it and
+under the libraries' own defaults, alone and as two concurrent processes (two test workers on the 2-core machine).
+
+The pieces, on the scratch's "default" mesh (24 510 DOF, finite strain, F-bar; "coarse" with ``--quick``), the
+fastest of five after a warm-up: the residual evaluation (material update, F-bar forces, contact), the material
+tangent, the F-bar element tangents, the whole tangent, PARDISO's factorisation and solve, and the element tangents
+right after a factorisation (where a spinning OpenMP pool of the solver steals the cores from numba's threads).
+
+Settings, each in a fresh process (thread pools read their environment when they load):
+
+* ``policy``: what ``import abrakit`` chooses (passive OpenMP waits, cores // workers threads per pool);
+* ``library defaults``: OpenMP threads spin after their parallel regions (``OMP_WAIT_POLICY=ACTIVE``,
+  ``KMP_BLOCKTIME=200``), every pool as many threads as cores;
+* ``one thread``: every pool one thread (``ABRAKIT_THREADS=1``);
+* ``2 workers, policy`` / ``2 workers, library defaults``: two such processes at once, as pytest-xdist's two
+  workers (``PYTEST_XDIST_WORKER_COUNT=2`` lets the policy give each one thread).
+
+Writes ``threads.csv``, ``threads.json`` and ``threads.png``.
+
+    python benchmarks/bench_threads.py [--quick] [--outdir DIR]
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import platform
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+from _common import RESULTS, command_line, save_figure
+
+from abrakit.io import CurveWriter, write_json
+
+PIECES = ("evaluate", "material_tangent", "element_tangents", "tangent", "factorise_solve",
+          "element_tangents_after_factorising")
+
+PROBE = r"""
+import json, sys, time
+import numpy as np
+from abrakit.fem import StepContext
+from abrakit.materials import LogStrainPlasticity
+from abrakit.scratch.scene import LineSearchSolver, ScratchScene, build_specimen, scene_linear_solver, st52_material
+
+scene = ScratchScene(mesh=sys.argv[1])
+specimen = build_specimen(scene)
+material = LogStrainPlasticity(st52_material())
+solver = LineSearchSolver(specimen.basis, material, specimen.conditions, bbar=True, finite_strain=True)
+solver.linear_solver = scene_linear_solver(solver, "auto")
+kin, free = solver.kin, solver.constraints.free
+u = np.zeros(kin.ndof)
+u[free] = 1e-5 * np.random.default_rng(0).standard_normal(free.size)
+state = material.initial_state((kin.nel, kin.nqp))
+ctx = StepContext(1, 0.1, 0.1, 0.1, 0.1, 0, u, u, state, np.zeros(kin.ndof))
+
+
+def fastest(fn, repeat=6):
+    times = []
+    for _ in range(repeat):
+        t0 = time.perf_counter()
+        fn()
+        times.append(time.perf_counter() - t0)
+    return min(times[1:])
+
+
+def evaluate():
+    kin._memo[0] = None
+    return solver.evaluate(u, state, ctx)
+
+
+response, residual, *_ = evaluate()
+_, K_II = solver.tangent(response, [], u, full=False)
+rhs = -residual[free]
+out = {"dofs": int(kin.ndof),
+       "evaluate": fastest(evaluate),
+       "material_tangent": fastest(lambda: material.update(state, solver.assembler.strain(u)).tangent),
+       "element_tangents": fastest(lambda: kin.element_tangents(response.tangent, response.stress, u)),
+       "tangent": fastest(lambda: solver.tangent(response, [], u, full=False)),
+       "factorise_solve": fastest(lambda: solver.linear_solver.solve(K_II, rhs, new_step=False))}
+
+
+def after_factorising():
+    solver.linear_solver.solve(K_II, rhs, new_step=False)
+    t0 = time.perf_counter()
+    kin.element_tangents(response.tangent, response.stress, u)
+    return time.perf_counter() - t0
+
+
+out["element_tangents_after_factorising"] = min(after_factorising() for _ in range(5))
+print(json.dumps(out))
+"""
+
+LIBRARY_DEFAULTS = {"OMP_WAIT_POLICY": "ACTIVE", "KMP_BLOCKTIME": "200"}
+_OURS = ("OMP_WAIT_POLICY", "KMP_BLOCKTIME", "OMP_NUM_THREADS", "MKL_NUM_THREADS", "OPENBLAS_NUM_THREADS",
+         "NUMBA_NUM_THREADS", "ABRAKIT_THREADS", "PYTEST_XDIST_WORKER_COUNT")
+
+
+def settings() -> dict[str, tuple[int, dict]]:
+    """Name -> (processes at once, environment)."""
+    cores = str(len(os.sched_getaffinity(0)))
+    defaults = LIBRARY_DEFAULTS | {k: cores for k in _OURS[2:6]}
+    return {
+        "policy": (1, {}),
+        "library defaults": (1, defaults),
+        "one thread": (1, {"ABRAKIT_THREADS": "1"}),
+        "2 workers, policy": (2, {"PYTEST_XDIST_WORKER_COUNT": "2"}),
+        "2 workers, library defaults": (2, defaults),
+    }
+
+
+def measure(mesh: str, processes: int, env: dict) -> dict:
+    """The pieces' seconds, the mean over ``processes`` concurrent probes."""
+    clean = {k: v for k, v in os.environ.items() if k not in _OURS} | env
+    running = [subprocess.Popen([sys.executable, "-c", PROBE, mesh], env=clean, stdout=subprocess.PIPE, text=True)
+               for _ in range(processes)]
+    results = [json.loads(p.communicate()[0].strip().splitlines()[-1]) for p in running]
+    return {k: float(np.mean([r[k] for r in results])) for k in results[0]}
+
+
+def main(outdir: Path = RESULTS, quick: bool = False) -> dict:
+    outdir = Path(outdir)
+    mesh = "coarse" if quick else "default"
+    rows = []
+    with CurveWriter(outdir / "threads.csv", ["setting", "processes", "dofs", *(f"{p}_ms" for p in PIECES)]) as w:
+        for name, (processes, env) in settings().items():
+            seconds = measure(mesh, processes, env)
+            row = {"setting": name, "processes": processes, "dofs": seconds["dofs"],
+                   **{f"{p}_ms": 1e3 * seconds[p] for p in PIECES}}
+            w.write(**row)
+            rows.append(row)
+    per_iteration = {r["setting"]: r["evaluate_ms"] + r["tangent_ms"] + r["factorise_solve_ms"] for r in rows}
+    results = {"date": time.strftime("%Y-%m-%d %H:%M"), "host": platform.node(), "mesh": mesh, "rows": rows,
+               "iteration_ms": per_iteration,
+               "summary": "; ".join(f"{k}: {v:.0f} ms per Newton iteration" for k, v in per_iteration.items())}
+    write_json(outdir / "threads.json", results)
+    plot(rows, outdir / "threads.png")
+    return results
+
+
+def plot(rows, path: Path) -> None:
+    import matplotlib.pyplot as plt
+
+    fig, ax = plt.subplots(figsize=(8.0, 4.2))
+    width = 0.8 / len(rows)
+    x = np.arange(len(PIECES))
+    for k, row in enumerate(rows):
+        ax.bar(x + k * width, [row[f"{p}_ms"] for p in PIECES], width, label=row["setting"])
+    ax.set_xticks(x + 0.4 - width / 2, [p.replace("_", " ") for p in PIECES], rotation=20, ha="right", fontsize=8)
+    ax.set_ylabel("ms (fastest of five; mean over concurrent processes)")
+    ax.set_title("One scratch Newton iteration's pieces under the thread settings")
+    ax.legend(fontsize=8)
+    save_figure(fig, path)
+
+
+if __name__ == "__main__":
+    command_line(main, __doc__, quick_help="the coarse mesh instead of the default one")
