@@ -15,7 +15,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..compiled import njit, prange
+from ..compiled import inverse3, njit, prange
 
 BLOCK = 32
 """Elements per block of the parallel loop (scratch arrays are allocated once per block)."""
@@ -42,22 +42,9 @@ def fbar_state(grad_N, dx, u_e, F, F_inv, J, J_bar, alpha, m, h, Gtg):  # pragma
                         for a in range(nnode):
                             total += u_e[e, 3 * a + i] * grad_N[e, q, a, L]
                         Fq[i, L] = total
-                c00 = Fq[1, 1] * Fq[2, 2] - Fq[1, 2] * Fq[2, 1]
-                c01 = Fq[1, 2] * Fq[2, 0] - Fq[1, 0] * Fq[2, 2]
-                c02 = Fq[1, 0] * Fq[2, 1] - Fq[1, 1] * Fq[2, 0]
-                det = Fq[0, 0] * c00 + Fq[0, 1] * c01 + Fq[0, 2] * c02
+                det = inverse3(Fq, Fi)
                 J[e, q] = det
                 low = min(low, det)
-                inv = 1.0 / det if det != 0.0 else 0.0
-                Fi[0, 0] = c00 * inv
-                Fi[1, 0] = c01 * inv
-                Fi[2, 0] = c02 * inv
-                Fi[0, 1] = (Fq[0, 2] * Fq[2, 1] - Fq[0, 1] * Fq[2, 2]) * inv
-                Fi[1, 1] = (Fq[0, 0] * Fq[2, 2] - Fq[0, 2] * Fq[2, 0]) * inv
-                Fi[2, 1] = (Fq[0, 1] * Fq[2, 0] - Fq[0, 0] * Fq[2, 1]) * inv
-                Fi[0, 2] = (Fq[0, 1] * Fq[1, 2] - Fq[0, 2] * Fq[1, 1]) * inv
-                Fi[1, 2] = (Fq[0, 2] * Fq[1, 0] - Fq[0, 0] * Fq[1, 2]) * inv
-                Fi[2, 2] = (Fq[0, 0] * Fq[1, 1] - Fq[0, 1] * Fq[1, 0]) * inv
                 for a in range(nnode):                 # g_(a i) = Σ_J F⁻¹_Ji ∂N_a/∂X_J
                     for i in range(3):
                         total = 0.0

@@ -21,7 +21,7 @@ import math
 
 import numpy as np
 
-from ..compiled import njit, prange
+from ..compiled import inverse3, njit, prange
 
 _P = np.array([0, 1, 2, 1, 0, 0])                           # Mandel component I <-> pair (p_I, q_I)
 _Q = np.array([0, 1, 2, 2, 2, 1])
@@ -71,26 +71,6 @@ def eigh3(a, lam, Q):  # pragma: no cover - compiled
 
 
 @njit(cache=True, inline="always")
-def _inverse3(F, F_inv):  # pragma: no cover - compiled
-    """det F and F⁻¹ (into ``F_inv``) of a 3 × 3 matrix by cofactors."""
-    c00 = F[1, 1] * F[2, 2] - F[1, 2] * F[2, 1]
-    c01 = F[1, 2] * F[2, 0] - F[1, 0] * F[2, 2]
-    c02 = F[1, 0] * F[2, 1] - F[1, 1] * F[2, 0]
-    det = F[0, 0] * c00 + F[0, 1] * c01 + F[0, 2] * c02
-    inv = 1.0 / det
-    F_inv[0, 0] = c00 * inv
-    F_inv[1, 0] = c01 * inv
-    F_inv[2, 0] = c02 * inv
-    F_inv[0, 1] = (F[0, 2] * F[2, 1] - F[0, 1] * F[2, 2]) * inv
-    F_inv[1, 1] = (F[0, 0] * F[2, 2] - F[0, 2] * F[2, 0]) * inv
-    F_inv[2, 1] = (F[0, 1] * F[2, 0] - F[0, 0] * F[2, 1]) * inv
-    F_inv[0, 2] = (F[0, 1] * F[1, 2] - F[0, 2] * F[1, 1]) * inv
-    F_inv[1, 2] = (F[0, 2] * F[1, 0] - F[0, 0] * F[1, 2]) * inv
-    F_inv[2, 2] = (F[0, 0] * F[1, 1] - F[0, 1] * F[1, 0]) * inv
-    return det
-
-
-@njit(cache=True, inline="always")
 def _pair(i, j):  # pragma: no cover - compiled
     """Mandel index of the off-diagonal pair (i, j): (1, 2) -> 3, (0, 2) -> 4, (0, 1) -> 5."""
     return 6 - i - j if i != j else i
@@ -119,7 +99,7 @@ def log_strain_update(F, Cp_inv, alpha_p, dissipation, stiffness, two_G, r_p, K_
         low = np.inf
         for k in range(blk * BLOCK, min(m, (blk + 1) * BLOCK)):
             Fk, Fi = F[k], F_inv[k]
-            det = _inverse3(Fk, Fi)
+            det = inverse3(Fk, Fi)
             J[k] = det
             low = min(low, det)
             if not det > 0.0:
