@@ -2,18 +2,18 @@
 
 abrakit's hot paths run in up to four thread pools: OpenBLAS (numpy, scipy), MKL (PARDISO, through Intel's
 OpenMP runtime), numba's parallel kernels (GNU OpenMP) and, in the test suite, pytest-xdist's worker processes.
-Left alone, each pool starts one thread per core, and an OpenMP thread that has finished its parallel region keeps
-spinning on its core for a while (200 ms in Intel's runtime) waiting for more work: the next library's threads
-then share the cores with spinning ones. Measured on the 2-core machine (``benchmarks/bench_threads.py``):
+Left alone, each pool starts one thread per core: two test workers (or two sweep processes) each starting two
+threads per pool put four busy threads on two cores. Measured on the 2-core machine (``benchmarks/bench_threads.py``,
+the scratch's coarse mesh): a Newton iteration of two concurrent processes costs 295 ms with the libraries'
+defaults and 202 ms with one thread each.
 
-* the scratch's Newton iteration (24 510 DOF, finite strain): PARDISO's factorisation and solve 452 → 376 ms,
-  the residual evaluation 88 → 69 ms with passively waiting OpenMP threads;
-* two test workers each starting two threads per pool put four busy threads on two cores.
-
-So, unless the user has set them: OpenMP threads wait passively (``OMP_WAIT_POLICY=PASSIVE``,
-``KMP_BLOCKTIME=0``), and every pool gets ``cores // workers`` threads, where ``workers`` is the number of
-processes sharing the machine (pytest-xdist's ``PYTEST_XDIST_WORKER_COUNT``; 1 otherwise). ``ABRAKIT_THREADS``
-overrides the count. Environment variables act on libraries that load later (MKL, numba, the OpenMP runtimes
+So, unless the user has set them, every pool gets ``cores // workers`` threads, where ``workers`` is the number
+of processes sharing the machine (pytest-xdist's ``PYTEST_XDIST_WORKER_COUNT``; 1 otherwise);
+``ABRAKIT_THREADS`` overrides the count. The OpenMP wait policy is left to the libraries: passive waits
+(``OMP_WAIT_POLICY=PASSIVE``) were measured too and rejected. They sped up PARDISO's factorisation on the
+scratch's default mesh (452 → 376 ms), but cost 9 % of a scratch iteration on the coarse mesh and 27 % of the DEM
+four-point-bending example (13.0 → 16.5 s), whose time steps wake the threads thousands of times.
+Environment variables act on libraries that load later (MKL, numba, the OpenMP runtimes
 are loaded lazily by abrakit); libraries already loaded (numpy's OpenBLAS, when numpy was imported first) are
 limited at run time through threadpoolctl. :func:`limit_threads` changes the count later, in one call.
 """
@@ -25,7 +25,6 @@ import os
 __all__ = ["configure_threads", "default_threads", "limit_threads"]
 
 _COUNT_VARIABLES = ("OMP_NUM_THREADS", "MKL_NUM_THREADS", "OPENBLAS_NUM_THREADS", "NUMBA_NUM_THREADS")
-_WAIT_VARIABLES = {"OMP_WAIT_POLICY": "PASSIVE", "KMP_BLOCKTIME": "0"}
 
 
 def _cores() -> int:
@@ -52,8 +51,6 @@ def configure_threads() -> int:
     """Set the thread policy of the module docstring for this process (where the user has not); returns the count.
     Called once by ``import abrakit``."""
     threads = default_threads()
-    for name, value in _WAIT_VARIABLES.items():
-        os.environ.setdefault(name, value)
     for name in _COUNT_VARIABLES:
         os.environ.setdefault(name, str(threads))
     _limit_loaded(int(os.environ["OPENBLAS_NUM_THREADS"]) if os.environ["OPENBLAS_NUM_THREADS"].isdigit()

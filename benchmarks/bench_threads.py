@@ -8,7 +8,8 @@ right after a factorisation (where a spinning OpenMP pool of the solver steals t
 
 Settings, each in a fresh process (thread pools read their environment when they load):
 
-* ``policy``: what ``import abrakit`` chooses (passive OpenMP waits, cores // workers threads per pool);
+* ``policy``: what ``import abrakit`` chooses (cores // workers threads per pool; the stored results of
+  2026-11-28 were measured while the policy also set passive OpenMP waits, since dropped: ``abrakit.threads``);
 * ``library defaults``: OpenMP threads spin after their parallel regions (``OMP_WAIT_POLICY=ACTIVE``,
   ``KMP_BLOCKTIME=200``), every pool as many threads as cores;
 * ``one thread``: every pool one thread (``ABRAKIT_THREADS=1``);
