@@ -247,14 +247,14 @@ class IndenterContact:
         x_old = self.reference + u_old[self.dofs]
         surface = self.indenter.gap(x, tip)
         increment = (x - x_old) - (tip - tip_old)
-        held = None if held is None or not held.any() else held.copy()
+        held = None if held is None or not held.any() else held          # zero rows: not held
         response = contact_response(
             surface.gap, surface.normal, increment, self.state, c_N=self.c_N, c_T=self.c_T,
             mu=self.mu, normal_gradient=surface.normal_gradient if self.curvature else None, held_direction=held)
         closed = response.state["status"] != OPEN
         hold = None
-        if held is not None and np.any((np.linalg.norm(held, axis=1) > 0.0) & closed):
-            k = (np.linalg.norm(held, axis=1) > 0.0) & closed        # the held nodes' share of the Coulomb force
+        k = None if held is None else (np.linalg.norm(held, axis=1) > 0.0) & closed
+        if k is not None and k.any():                                 # the held nodes' share of the Coulomb force
             share = self.areas[k] @ response.pressure[k]
             capacity = self.areas[closed] @ response.pressure[closed]
             hold = (int(k.sum()), float(share / capacity) if capacity > 0.0 else 0.0)
