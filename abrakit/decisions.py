@@ -79,6 +79,17 @@ DECISIONS: tuple[Decision, ...] = (
                                      "constraint_and_meets_the_consistent_one",
                                      "tests/test_identification.py::test_published_modulus_exceeds_the_affine_upper_"
                                      "bound_above_a_critical_ratio"), "identification", "ambiguity"),
+    Decision("strain of a periodic cell, the elastic probe", "silent (the seed's tests are walled)",
+             "a jump of the cell and the positions that also shifts every touching contact's tangential spring by "
+             "−K^t (ε l)_t; six Voigt strains; E, ν from the isotropic projection of the 6 × 6 stiffness",
+             "the tangential spring is incremental (Eq. 4.7): a positions-only jump never reaches it and the probe "
+             "measures a network without shear springs (ν ≈ 1/4, E 30–40 % low); for an infinitesimal strain the "
+             "shift equals what a velocity-driven cell accumulates and needs no image velocities in the contact laws",
+             ("tests/test_dem_network.py::test_the_probe_equals_the_exact_network_response",
+              "tests/test_dem_network.py::test_without_the_spring_shift_the_probe_misses_the_tangential_springs",
+              "tests/test_dem_network.py::test_velocity_driven_motion_loads_the_springs_as_the_jump_does",
+              "tests/test_dem_network.py::test_the_stress_right_after_the_jump_is_the_affine_closed_form",
+              "benchmarks/bench_dem_periodic.py"), "dem_identification", "choice"),
     Decision("contact area of Table 8.4", "not stated", "A_c = 114.62 mm², derived from the table",
              "one area reproduces every printed rate to its printed digits; the midpoint of the admissible band",
              ("tests/test_wear.py::test_scaling_area_is_derived_from_the_table",

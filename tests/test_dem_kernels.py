@@ -75,8 +75,10 @@ def test_numba_kernel_refuses_other_laws():
         dense_packing(8, law=HertzMindlin(), kernel="numba")
 
 
-def test_numba_kernel_in_a_periodic_cell_equals_numpy():
-    """The compiled contact loop takes the nearest periodic image like the NumPy path."""
+@pytest.mark.parametrize("shear", [0.0, 0.05])
+def test_numba_kernel_in_a_periodic_cell_equals_numpy(shear):
+    """The compiled contact loop takes the nearest periodic image like the NumPy path, in an orthogonal and in a
+    sheared (tilted) cell."""
     from abrakit.dem import Particles, Periodic, Simulation
 
     rng = np.random.default_rng(3)
@@ -86,6 +88,7 @@ def test_numba_kernel_in_a_periodic_cell_equals_numpy():
     for kernel in ("numpy", "numba"):
         p = Particles.spheres(x, 0.0104, kn=1e6, friction=0.3)          # overlapping by 4 %: they push apart
         sim = Simulation(p, periodic=Periodic([0.08] * 3), kernel=kernel, dt=2e-6, local_damping=0.1)
+        sim.strain_cell(np.array([[0.0, shear, 0.0], [shear, 0.0, 0.0], [0.0, 0.0, 0.0]]))
         sim.run(300, progress=False)
         runs.append(sim)
     a, b = runs

@@ -55,6 +55,7 @@ from abrakit.dem.measure import (
     wall_stress,
 )
 from abrakit.dem.neighbours import VerletList, candidate_pairs
+from abrakit.dem.network import affine_stiffness, network_stiffness
 from abrakit.dem.output import HistoryWriter, VtuWriter, callbacks
 from abrakit.dem.periodic import ElasticConstants, Periodic, elastic_probe
 from abrakit.dem.scenes import (
@@ -73,15 +74,15 @@ from abrakit.dem.walls import Servo, Walls
 
 __all__ = [
     "Clumps", "ContactForces", "ContactSet", "CrackLog", "ElasticConstants", "EnergyAccount", "FatigueBonds",
-    "HertzMindlin", "HistoryWriter", "Linear", "ParallelBonds", "ParticleEscapeError", "Particles", "Periodic",
-    "Servo", "Simulation", "TimeStepError", "VerletList", "VtuWriter", "Walls", "bonded_bar", "bonded_chain_wave",
-    "bonded_pair", "box_strain", "callbacks", "candidate_pairs", "clump_particles", "contact_density",
-    "coordination_number", "critical_time_step", "cyclic_bar", "demo", "dense_packing", "dyad", "elastic_probe",
-    "energy_balance", "force_displacement", "hertz_normal_coefficient", "hertz_shear_coefficient", "impact_analytic",
-    "install_contact_bonds", "install_fatigue_bonds", "install_parallel_bonds", "kinetic_energy", "leapfrog",
-    "local_damping", "love_weber_stress", "make_clumps", "parallel_bond_update", "peanut", "porosity", "relax",
-    "rolling_sphere", "series_stiffness", "settling", "sphere_wall_impact", "two_sphere_impact",
-    "unbalanced_force_ratio", "wall_stress",
+    "HertzMindlin", "HistoryWriter", "Linear", "ParallelBonds", "ParticleEscapeError", "Particles", "Periodic", "Servo",
+    "Simulation", "TimeStepError", "VerletList", "VtuWriter", "Walls", "affine_stiffness", "bonded_bar",
+    "bonded_chain_wave", "bonded_pair", "box_strain", "callbacks", "candidate_pairs", "clump_particles",
+    "contact_density", "coordination_number", "critical_time_step", "cyclic_bar", "demo", "dense_packing", "dyad",
+    "elastic_probe", "energy_balance", "force_displacement", "hertz_normal_coefficient", "hertz_shear_coefficient",
+    "impact_analytic", "install_contact_bonds", "install_fatigue_bonds", "install_parallel_bonds", "kinetic_energy",
+    "leapfrog", "local_damping", "love_weber_stress", "make_clumps", "network_stiffness", "parallel_bond_update",
+    "peanut", "porosity", "relax", "rolling_sphere", "series_stiffness", "settling", "sphere_wall_impact",
+    "two_sphere_impact", "unbalanced_force_ratio", "wall_stress"
 ]
 
 

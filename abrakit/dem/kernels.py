@@ -82,7 +82,7 @@ def _linear_law(U, n0, n1, n2, r0, r1, r2, f0, f1, f2, kn, kt, mu, beta_n, beta_
 @njit(cache=True, error_model="numpy")
 def linear_contacts(x, v, w, radius, i, j, kn, kt, mu, beta_n, beta_t, ft, bonded, bond_gap, bond_normal,
                     bond_shear, dt, force, torque, out_ft, out_overlap, out_normal, out_fn, out_force, out_dashpot,
-                    out_trial, out_flags, box, full):
+                    out_trial, out_flags, box, box_inv, full):
     """Linear contact law on every contact, summed onto ``force``/``torque`` (both (N, 3), updated in place).
 
     ``ft`` (3, M) is the tangential spring force before the step, ``out_ft`` after it; ``out_overlap`` (M,)
@@ -91,20 +91,29 @@ def linear_contacts(x, v, w, radius, i, j, kn, kt, mu, beta_n, beta_t, ft, bonde
     dashpot force (3, M; pass a (3, 0) array to skip it), the trial shear force magnitude before the Coulomb cap,
     and the flags touching and sliding; without it only the spring, the overlap and the bond failures, which is
     what the next step needs (the caller rebuilds the rest from the positions when they are read, a quarter of
-    the kernel's time in a dense packing). ``box`` (3,): the periodic cell's lengths (branch vectors to the
-    nearest image), zeros without a cell. Returns the number of bonds that failed.
+    the kernel's time in a dense packing). ``box`` (3, 3): the periodic cell's matrix h and ``box_inv``
+    its inverse (branch vectors to the nearest image), zeros without a cell. Returns the number of bonds that failed.
     """
     keep_dashpot = out_dashpot.shape[1] > 0
     failures = 0
-    periodic = box[0] > 0.0
+    periodic = box[0, 0] > 0.0
+    tilted = periodic and (box[0, 1] != 0.0 or box[0, 2] != 0.0 or box[1, 0] != 0.0 or box[1, 2] != 0.0
+                           or box[2, 0] != 0.0 or box[2, 1] != 0.0)
     for c in range(i.shape[0]):
         a, b = i[c], j[c]
         # geometry, Eq. (4.1)–(4.4)
         d0, d1, d2 = x[b, 0] - x[a, 0], x[b, 1] - x[a, 1], x[b, 2] - x[a, 2]
-        if periodic:
-            d0 -= box[0] * np.round(d0 / box[0])
-            d1 -= box[1] * np.round(d1 / box[1])
-            d2 -= box[2] * np.round(d2 / box[2])
+        if tilted:                          # fractional coordinates s = h⁻¹ d, nearest image d − h round(s)
+            s0 = np.round(box_inv[0, 0] * d0 + box_inv[0, 1] * d1 + box_inv[0, 2] * d2)
+            s1 = np.round(box_inv[1, 0] * d0 + box_inv[1, 1] * d1 + box_inv[1, 2] * d2)
+            s2 = np.round(box_inv[2, 0] * d0 + box_inv[2, 1] * d1 + box_inv[2, 2] * d2)
+            d0 -= box[0, 0] * s0 + box[0, 1] * s1 + box[0, 2] * s2
+            d1 -= box[1, 0] * s0 + box[1, 1] * s1 + box[1, 2] * s2
+            d2 -= box[2, 0] * s0 + box[2, 1] * s1 + box[2, 2] * s2
+        elif periodic:
+            d0 -= box[0, 0] * np.round(d0 / box[0, 0])
+            d1 -= box[1, 1] * np.round(d1 / box[1, 1])
+            d2 -= box[2, 2] * np.round(d2 / box[2, 2])
         dist = math.sqrt(d0 * d0 + d1 * d1 + d2 * d2)
         U = (radius[a] + radius[b]) - dist
         out_overlap[c] = U

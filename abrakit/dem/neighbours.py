@@ -24,7 +24,8 @@ def candidate_pairs(x: ArrayLike, radius: ArrayLike, skin: float, clump=None, pe
     """Index pairs ``i < j`` whose surface gap is below ``skin`` [m]; pairs inside one clump are skipped.
 
     ``periodic`` (:class:`~abrakit.dem.periodic.Periodic`, positions inside its cell): the tree is toroidal
-    (``cKDTree(boxsize=L)``) and gaps are measured between nearest images. ``compiled`` (numba, no periodic
+    (``cKDTree(boxsize=L)``, on the scaled fractional coordinates of a tilted cell with a search radius grown to
+    match) and gaps are measured between nearest images. ``compiled`` (numba, no periodic
     cell): the same pairs from the cell list :func:`abrakit.dem.kernels.cell_list_pairs`, about twice as fast.
     Returned sorted by ``(i, j)``.
     """
@@ -38,12 +39,13 @@ def candidate_pairs(x: ArrayLike, radius: ArrayLike, skin: float, clump=None, pe
             i, j, count = cell_list_pairs(x, radius, skin, count)
         i, j = i[:count], j[:count]                               # sorted by (i, j) already
     else:
+        stretch = 1.0
         if periodic is None:
             tree = cKDTree(x, balanced_tree=False)           # unbalanced: faster to build, as fast to query here
         else:
-            tree = cKDTree(np.minimum(x - periodic.lower, np.nextafter(periodic.lengths, 0)),
-                           boxsize=periodic.lengths)
-        pairs = tree.query_pairs(2.0 * float(radius.max()) + skin, output_type="ndarray")
+            points, stretch = periodic.search_coordinates(x)   # a tilted cell: its fractional coordinates
+            tree = cKDTree(points, boxsize=periodic.lengths)
+        pairs = tree.query_pairs(stretch * (2.0 * float(radius.max()) + skin), output_type="ndarray")
         i, j = pairs[:, 0].astype(np.int64), pairs[:, 1].astype(np.int64)
         d = np.take(x, j, axis=0) - np.take(x, i, axis=0)         # np.take: twice as fast as x[j] on rows
         d = d if periodic is None else periodic.minimum_image(d)

@@ -150,8 +150,8 @@ class Simulation:
     track_energy : keep :attr:`energy` (costs a few percent)
     kernel : "numpy" (default) or "numba" (compiled particle–particle loop for the linear law, extra ``fast``)
     periodic : :class:`~abrakit.dem.periodic.Periodic` cell, optional: minimum-image contacts across its faces,
-        positions wrapped at every Verlet rebuild, homogeneous normal strains by :meth:`strain_cell` (no
-        parallel bonds, no clumps)
+        positions wrapped at every Verlet rebuild, homogeneous strains (normal and shear) by :meth:`strain_cell`
+        (no parallel bonds, no clumps)
     """
 
     def __init__(self, particles: Particles, *, law=None, walls: Walls | None = None, gravity=(0.0, 0.0, 0.0),
@@ -386,7 +386,7 @@ class Simulation:
         failed = linear_contacts(p.x, p.v, p.w, p.radius, c.i, c.j, prm["kn"], prm["kt"], prm["mu"], prm["beta_n"],
                         prm["beta_t"], c.ft, c.bonded, c.bond_gap, c.bond_normal_strength, c.bond_shear_strength,
                         self.dt, force, torque, ft, overlap, n, fn, total, dashpot, trial, flags,
-                        np.zeros(3) if self.periodic is None else self.periodic.lengths, full)
+                        *self._cell_matrices(), full)
         r = self._compiled_forces(prm, total if full else None, fn if full else None, ft, flags, trial, dashpot)
         return r, overlap, n if full else None, failed > 0
 
@@ -728,13 +728,38 @@ class Simulation:
         d = np.take(x, j, axis=0) - np.take(x, i, axis=0)          # np.take: twice as fast as x[j] on rows
         return d if self.periodic is None else self.periodic.minimum_image(d)
 
-    def strain_cell(self, strain) -> None:
-        """Strain the periodic cell homogeneously by ``(ε_xx, ε_yy, ε_zz)``, the positions affinely with it."""
+    def _cell_matrices(self) -> tuple[np.ndarray, np.ndarray]:
+        """The periodic cell's matrix h and its inverse for the compiled kernel (zeros without a cell)."""
+        if self.periodic is None:
+            return np.zeros((3, 3)), np.zeros((3, 3))
+        return self.periodic.matrix, self.periodic.inverse
+
+    def strain_cell(self, strain, *, shift_springs: bool = True) -> None:
+        """Strain the periodic cell homogeneously by ε (``(ε_xx, ε_yy, ε_zz)`` or a symmetric (3, 3) tensor), the
+        positions affinely with it, and every touching contact's tangential spring by the increment of its affine
+        relative displacement, ΔF^t = −K^t (ε l)_t (Eq. 4.7 integrated over the jump; :mod:`abrakit.dem.periodic`
+        explains why the springs need it). ``shift_springs=False`` moves the positions only: the classic mistake,
+        kept so that it can be shown (the incremental springs then never see the strain)."""
         if self.periodic is None:
             raise ValueError("strain_cell needs a periodic simulation (periodic=Periodic(...))")
-        self.periodic.strain(self.particles.x, strain)
+        c = self.contacts
+        shift = shift_springs and len(c) and c.force is not None
+        branch = self.branch(c.i, c.j).T if shift else None           # (3, M), before the strain
+        eps = self.periodic.strain(self.particles.x, strain)
+        if branch is not None:
+            self._shift_tangential_springs(eps @ branch)
         self.periodic.check_range(2.0 * float(self.particles.radius.max()) + self.skin)
         self.neighbours.x_ref = None                       # the images moved: rebuild at the next step
+
+    def _shift_tangential_springs(self, displacement) -> None:
+        """Add −K^t u_t to the tangential springs of the touching contacts for relative displacements
+        ``displacement`` (3, M) of B's contact point with respect to A's (Eq. 4.7 with V^t Δt = u_t)."""
+        c = self.contacts
+        touching = c.touching
+        n = c.normal
+        u_t = (displacement - dot(displacement, n) * n) * touching
+        kt = self.law.shear_stiffness(c.fn, c.prm)
+        c.ft = c.ft - kt * u_t
 
     def snapshot(self) -> dict:
         """A deep copy of the state (particles, contacts, bonds, walls, cell, clock) for :meth:`restore`."""
