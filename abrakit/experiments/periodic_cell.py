@@ -10,7 +10,8 @@ has no boundary at all:
    the walled genesis;
 3. isotropic consolidation to σ₀ by straining the *cell* (not walls): every ``check_every`` steps the cell strain
    changes by ``gain`` × (p − σ₀)/K, bounded by ``max_rate`` mean radii per step (the walled servo's speed);
-4. the material's friction assigned, re-equilibrated, and :func:`~abrakit.dem.periodic.elastic_probe` run.
+4. the material's friction assigned, re-equilibrated, :func:`~abrakit.dem.periodic.elastic_probe` run and the
+   exact network response (:func:`~abrakit.dem.network.network_stiffness`) computed beside it.
 
 Eq. (5.20) is evaluated with the contact density of the whole cell (every force-carrying contact between
 non-rattlers), which needs no interior window. Spheres only (a clump's members would be wrapped one by one).
@@ -33,11 +34,12 @@ from abrakit.dem import (
     relax,
     unbalanced_force_ratio,
 )
+from abrakit.dem.network import network_stiffness
 from abrakit.experiments.closed_form_checks import contact_statistics, elastic_predictions
 from abrakit.experiments.specimen import SpecimenSpec, grains, random_placement
 from abrakit.validation import check_positive
 
-__all__ = ["consolidate_cell", "periodic_elastic_case", "periodic_genesis"]
+__all__ = ["consolidate_cell", "periodic_elastic_case", "periodic_elastic_cases", "periodic_genesis"]
 
 
 def mean_pressure(sim) -> float:
@@ -91,28 +93,55 @@ def periodic_genesis(spec: SpecimenSpec, *, max_steps: int = 40_000) -> Simulati
 
 
 def periodic_elastic_case(params: dict) -> dict:
-    """One specimen in a periodic cell: E, ν by the elastic probe and Eq. (5.20) from the cell's contacts.
+    """One specimen in a periodic cell: E, ν by the elastic probe (isotropic projection of its 6 × 6 stiffness),
+    by the exact network response (:func:`~abrakit.dem.network.network_stiffness`) and by Eq. (5.20) from the
+    cell's contacts.
 
-    ``params``: :class:`SpecimenSpec` fields (``n_particles``, ``seed``, …), ``strain`` (probe, default 1e-6),
-    ``tolerance`` (relaxation, default 1e-6). Returns JSON-able numbers.
+    ``params``: :class:`SpecimenSpec` fields (``n_particles``, ``seed``, ``stiffness_ratio``, …), ``strain``
+    (probe, default 1e-8), ``tolerance`` (relaxation, default 1e-6), ``friction`` (default the material's 0.5),
+    ``positions_only`` (also run the probe without the spring shift: ``E_positions_only``, ``nu_positions_only``).
+    Returns JSON-able numbers.
     """
+    return periodic_elastic_cases(params)[0]
+
+
+def periodic_elastic_cases(params: dict, ratios=None) -> list[dict]:
+    """:func:`periodic_elastic_case` for several K^n/K^t ``ratios`` on one packing (made once, at the spec's
+    ratio: the frictionless genesis does not depend on it); default the spec's ratio alone."""
     start = time.perf_counter()
     spec = SpecimenSpec(**{k: v for k, v in params.items() if k in SpecimenSpec.__dataclass_fields__})
     sim = periodic_genesis(spec)
-    material = spec.material()
-    sim.particles.friction[:] = material.friction
-    sim.refresh()
+    genesis = sim.snapshot()
     tolerance = params.get("tolerance", 1e-6)
-    relax(sim, tolerance=tolerance, min_steps=0, max_steps=40_000, check_every=100)
-    probe = elastic_probe(sim, strain=params.get("strain", 1e-6), tol=tolerance)
-    contacts = contact_statistics(sim)
-    predictions = elastic_predictions(contacts)
-    out = {"n_particles": spec.n_particles, "seed": spec.seed, "E": probe.E, "nu": probe.nu, "C11": probe.C11,
-           "C12": probe.C12, "C11_spread": float(np.ptp(probe.C11_axes) / probe.C11),
-           "pressure": mean_pressure(sim), "porosity": 1.0 - float(np.sum(4 / 3 * np.pi * sim.particles.radius**3))
-           / sim.periodic.volume, "coordination": coordination_number(sim), **contacts}
-    for variant, pred in predictions.items():
-        out[f"E_pred_{variant}"], out[f"nu_pred_{variant}"] = pred["E"], pred["nu"]
-        out[f"ratio_E_{variant}"], out[f"ratio_nu_{variant}"] = probe.E / pred["E"], probe.nu / pred["nu"]
-    out["seconds"] = time.perf_counter() - start
-    return out
+    friction = params.get("friction", spec.material().friction)
+    rows = []
+    for ratio in (spec.stiffness_ratio,) if ratios is None else ratios:
+        sim.restore(genesis)
+        p = sim.particles
+        p.kt[:] = p.kn / check_positive("ratio", ratio)
+        p.friction[:] = friction
+        sim.refresh()
+        relax(sim, tolerance=tolerance, min_steps=0, max_steps=40_000, check_every=100)
+        tic = time.perf_counter()
+        probe = elastic_probe(sim, strain=params.get("strain", 1e-8), tol=tolerance)
+        probe_seconds = time.perf_counter() - tic
+        tic = time.perf_counter()
+        exact = network_stiffness(sim)
+        exact_seconds = time.perf_counter() - tic
+        out = {"n_particles": spec.n_particles, "seed": spec.seed, "stiffness_ratio": float(ratio),
+               "friction": float(friction), "E": probe.E, "nu": probe.nu, "C11": probe.C11, "C12": probe.C12,
+               "C44": float(np.mean(np.diag(probe.C)[3:])), "anisotropy": probe.anisotropy,
+               "C11_spread": float(np.ptp(probe.C11_axes) / probe.C11), "E_exact": exact.E, "nu_exact": exact.nu,
+               "anisotropy_exact": exact.anisotropy, "pressure": mean_pressure(sim),
+               "porosity": 1.0 - float(np.sum(4 / 3 * np.pi * p.radius**3)) / sim.periodic.volume,
+               "coordination": coordination_number(sim), **contact_statistics(sim),
+               "probe_seconds": probe_seconds, "exact_seconds": exact_seconds}
+        if params.get("positions_only", False):       # the probe without the spring shift, for comparison
+            legacy = elastic_probe(sim, strain=params.get("strain", 1e-8), tol=tolerance, shift_springs=False)
+            out["E_positions_only"], out["nu_positions_only"] = legacy.E, legacy.nu
+        for variant, pred in elastic_predictions(out).items():
+            out[f"E_pred_{variant}"], out[f"nu_pred_{variant}"] = pred["E"], pred["nu"]
+            out[f"ratio_E_{variant}"], out[f"diff_nu_{variant}"] = probe.E / pred["E"], probe.nu - pred["nu"]
+        out["seconds"] = time.perf_counter() - start
+        rows.append(out)
+    return rows
