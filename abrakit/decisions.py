@@ -90,6 +90,16 @@ DECISIONS: tuple[Decision, ...] = (
               "tests/test_dem_network.py::test_velocity_driven_motion_loads_the_springs_as_the_jump_does",
               "tests/test_dem_network.py::test_the_stress_right_after_the_jump_is_the_affine_closed_form",
               "benchmarks/bench_dem_periodic.py"), "dem_identification", "choice"),
+    Decision("the wear rate against the ASTM G65 test", "rates in m³/s; 'measured losses are lower'",
+             "the volume loss per procedure in mm³ beside the standard's 100 mm³ threshold and the measured range, "
+             "the sand's volume flow, grain counts (seed, monolayer, sand feed, load), the contact by Hertz's line "
+             "contact with Gent's rubber modulus, and the chain held to the test's 130 N (grooves ∝ F^{3/2})",
+             "the chain credits 10⁴ grains with the groove of a 2 N scratch, 2 × 10⁴ N in all against 130 N; held "
+             "to the test's force it brackets the measured losses (9.2 × 10³ and 7 × 10² mm³ for 100 µm sand)",
+             ("tests/test_g65.py::test_table_8_4_against_the_real_test",
+              "tests/test_g65.py::test_rubber_modulus_by_gent_and_the_hertz_contact_of_the_wheel",
+              "tests/test_g65.py::test_the_plastic_groove_grows_as_the_load_to_the_power_three_halves"), "wear",
+             "reconstruction"),
     Decision("contact area of Table 8.4", "not stated", "A_c = 114.62 mm², derived from the table",
              "one area reproduces every printed rate to its printed digits; the midpoint of the admissible band",
              ("tests/test_wear.py::test_scaling_area_is_derived_from_the_table",
