@@ -83,7 +83,7 @@ DECISIONS: tuple[Decision, ...] = (
              "a jump of the cell and the positions that also shifts every touching contact's tangential spring by "
              "−K^t (ε l)_t; six Voigt strains; E, ν from the isotropic projection of the 6 × 6 stiffness",
              "the tangential spring is incremental (Eq. 4.7): a positions-only jump never reaches it and the probe "
-             "measures a network without shear springs (ν ≈ 1/4, E 30–40 % low); for an infinitesimal strain the "
+             "measures a network without shear springs (ν ≈ 1/4, E 27–41 % low); for an infinitesimal strain the "
              "shift equals what a velocity-driven cell accumulates and needs no image velocities in the contact laws",
              ("tests/test_dem_network.py::test_the_probe_equals_the_exact_network_response",
               "tests/test_dem_network.py::test_without_the_spring_shift_the_probe_misses_the_tangential_springs",
