@@ -130,6 +130,21 @@ DECISIONS: tuple[Decision, ...] = (
              "strains under the tip reach order one; small strain changes f_ab by up to 0.07 between meshes",
              ("tests/test_finite_strain.py::test_fbar_tangent_is_the_derivative_of_its_force",), "scratch_volume",
              "choice"),
+    Decision("damage and removal in the finite-strain scratch", "Model II on top of the plasticity (Table 8.2), "
+             "small strain, removal not defined",
+             "Model II on logarithmic strains (the ERVE's f̄ scales the Kirchhoff stress, the return stays radial); an "
+             "element whose mean largest sub-domain damage reaches the cap 0.999 is removed: its current volume "
+             "leaves the shoulders or the prow (above y = 0) or deepens groove and sink (below), a 'removed' term "
+             "of the volume audit that keeps it exact",
+             "the scene's physics is finite strain, and plowing conserves volume: wear must come from removed "
+             "material; counting it inside the audit keeps the budget closed and Eq. (8.5) counts it as worn",
+             ("tests/test_finite_strain_damage.py::test_small_strains_reduce_to_the_small_strain_model_with_damage",
+              "tests/test_finite_strain_damage.py::test_the_energy_budget_closes_at_large_strain_to_first_order_in_"
+              "the_step",
+              "tests/test_finite_strain_damage.py::test_a_rigid_rotation_of_a_damaged_point_changes_no_stress_"
+              "invariant",
+              "tests/test_scratch_budget.py::test_removed_elements_close_the_budget_and_move_volume_from_the_"
+              "shoulders_to_the_debris"), "scratch_volume", "choice"),
     Decision("stick/slip chatter of the scratch's contact nodes", "silent (Abaqus' penalty contact)",
              "a node that switches stick <-> slip (or reverses its slip) twice in one increment slips along its "
              "last slip direction for the rest of it (|t_T| = μp); the held nodes' share of the Coulomb force is "

@@ -41,6 +41,29 @@ def test_the_budget_closes_to_round_off_for_any_displacement(specimen):
     assert abs(b.residual) <= 1e-12 * max(b.groove, b.shoulders, abs(b.volume_change))
 
 
+def test_removed_elements_close_the_budget_and_move_volume_from_the_shoulders_to_the_debris(specimen):
+    """Elements counted as removed (Model II at its cap): the budget still closes to round-off, ``removed`` is
+    their current volume ∫ J dV_0 (computed here from det F independently), and it leaves the shoulders and the
+    prow where it sits above y = 0 and deepens groove and sink where it sits below; no element, no change."""
+    spec, kin, faces = specimen
+    rng = np.random.default_rng(2)
+    u = 1e-3 * rng.standard_normal(spec.basis.N)
+    mask = rng.random(kin.nel) < 0.2
+    plain = volume_budget(faces, kin, spec.mesh.p, u, z_tip=0.04)
+    b = volume_budget(faces, kin, spec.mesh.p, u, z_tip=0.04, removed=mask)
+    assert abs(b.residual) <= 1e-12 * max(b.groove, b.shoulders, abs(b.volume_change))
+    J = np.linalg.det(np.eye(3) + kin.displacement_gradient(u))
+    assert b.removed == pytest.approx(2 * np.sum(J[mask] * kin.dx[mask]), rel=1e-12)
+    moved = (plain.shoulders - b.shoulders) + (plain.prow - b.prow) + (b.groove - plain.groove) \
+        + (b.sink - plain.sink)
+    assert moved == pytest.approx(b.removed, rel=1e-12)
+    assert b.shoulders < plain.shoulders and b.groove > plain.groove
+    none = volume_budget(faces, kin, spec.mesh.p, u, z_tip=0.04, removed=np.zeros(kin.nel, bool))
+    assert none == plain and none.removed == 0.0
+    with pytest.raises(ValueError, match="one flag per element"):
+        volume_budget(faces, kin, spec.mesh.p, u, z_tip=0.04, removed=np.ones(3, bool))
+
+
 def test_a_uniform_settlement_of_the_top_is_all_groove_and_volume_change(specimen):
     spec, kin, faces = specimen
     thickness, strain = TINY_BLOCK[1], -0.01
@@ -68,6 +91,7 @@ def test_every_increment_of_a_scratch_closes_its_budget(scratches):
         c = r.curves
         scale = np.maximum(c["V_groove"], 1e-12)
         assert np.all(np.abs(c["V_residual"]) <= 1e-10 * scale)
+        assert np.all(c["V_removed"] == 0.0)                     # no damage, nothing removed
         assert r.summary()["volume_budget_um3"]["groove"] == pytest.approx(c["V_groove"][-1] * 1e9)
 
 

@@ -174,6 +174,17 @@ class Kinematics:
         u_e = np.asarray(u)[self.element_dofs].reshape(self.nel, -1, self.dim)  # (e, a, i)
         return np.matmul(np.swapaxes(u_e, -1, -2)[:, None], self.grad_N)      # Σ_a u_ai ∂N_a/∂x_k: (e, q, i, k)
 
+    @cached_property
+    def shape_values(self) -> np.ndarray:
+        """N_a at every quadrature point, ``(nel, nqp, nnode)`` (vertex-only elements)."""
+        nnode = self.nbf // self.dim
+        return np.stack([np.asarray(self.basis.basis[a * self.dim][0])[0] for a in range(nnode)], axis=-1)
+
+    def displacement_at_points(self, u: np.ndarray) -> np.ndarray:
+        """u at every quadrature point, ``(nel, nqp, dim)``."""
+        u_e = np.asarray(u)[self.element_dofs].reshape(self.nel, -1, self.dim)   # (e, a, i)
+        return np.einsum("eqa,eai->eqi", self.shape_values, u_e)
+
     def project(self, values: np.ndarray) -> np.ndarray:
         """L2 projection of a quadrature-point field ``(nel, nqp)`` onto the mesh vertices (linear elements).
 
@@ -187,7 +198,7 @@ class Kinematics:
         nnode = self.nbf // self.dim
         if nnode != self.basis.mesh.t.shape[0]:
             raise ValueError("project() needs a linear (vertex-only) element")
-        N = np.stack([np.asarray(self.basis.basis[a * self.dim][0])[0] for a in range(nnode)], axis=-1)  # (e,q,a)
+        N = self.shape_values                                                   # (e, q, a)
         nodes = self.element_dofs[:, :: self.dim] // self.dim
         n = self.basis.mesh.p.shape[1]
         rhs = np.bincount(nodes.ravel(), np.einsum("eqa,eq->ea", N, values * self.dx).ravel(), minlength=n)

@@ -40,6 +40,7 @@ from ..compiled import HAVE_NUMBA, njit, prange
 from ..validation import check_finite, check_shape, number_arguments
 from . import _finite_strain_kernels as _kernels
 from .elastic import LinearElastic
+from .model_two import ModelIIDamage
 from .plasticity import VonMisesPlasticity
 
 __all__ = ["LogStrainPlasticity", "log_derivative", "log_divided_differences", "mandel_rotation"]
@@ -177,8 +178,12 @@ class LogStrainPlasticity:
     """Finite-strain J2 plasticity (exponential map, logarithmic strains) around a small-strain ``base`` model.
 
     ``base`` is :class:`~abrakit.materials.VonMisesPlasticity` (with ``integration="implicit"``, the radial
-    return the exponential map is exact for) or :class:`~abrakit.materials.LinearElastic` (then the model is the
-    Hencky hyperelastic material). ``update(state, F)`` takes the deformation gradient as 9-vectors (row-major
+    return the exponential map is exact for), :class:`~abrakit.materials.LinearElastic` (then the model is the
+    Hencky hyperelastic material) or :class:`~abrakit.materials.ModelIIDamage` (Model II's ERVE damage on top,
+    Eq. 6.81–6.105, plasticity by the implicit radial return of the effective stress): its scalar f̄(d) scales
+    the Kirchhoff stress, so the return stays coaxial with b_e^tr and the exponential map applies unchanged; the
+    rate limit (``external_work`` or ``external_power``) is passed through ``update``'s keywords. Model II runs
+    on the NumPy path only. ``update(state, F)`` takes the deformation gradient as 9-vectors (row-major
     F_iJ) and returns P (9-vectors, MPa) and A = ∂P/∂F (9 × 9). The state holds ``Cp_inv`` (..., 3, 3),
     ``alpha_p``, ``dissipation`` (accumulated r_p |Δε_p| per unit *reference* volume, MPa), the logarithmic
     elastic strain ``eps_e`` and the Cauchy stress ``cauchy`` (Mandel, MPa) for output, and ``J`` = det F.
@@ -187,15 +192,23 @@ class LogStrainPlasticity:
     base: VonMisesPlasticity | LinearElastic
 
     def __post_init__(self):
-        if not isinstance(self.base, (VonMisesPlasticity, LinearElastic)):
-            raise TypeError(f"base must be a VonMisesPlasticity or LinearElastic, got {type(self.base).__name__}")
-        if isinstance(self.base, VonMisesPlasticity) and self.base.integration != "implicit":
+        if not isinstance(self.base, (VonMisesPlasticity, LinearElastic, ModelIIDamage)):
+            raise TypeError(f"base must be a VonMisesPlasticity, LinearElastic or ModelIIDamage, got "
+                            f"{type(self.base).__name__}")
+        if self.plastic and self.base.integration != "implicit":
             raise ValueError("base.integration must be 'implicit': the exponential map is the radial return in "
                              "logarithmic strains")
 
     @property
     def plastic(self) -> bool:
+        if isinstance(self.base, ModelIIDamage):
+            return self.base.r_p is not None
         return isinstance(self.base, VonMisesPlasticity)
+
+    @property
+    def damaged(self) -> bool:
+        """Model II's damage on top (state ``d``, ``psi0``)."""
+        return isinstance(self.base, ModelIIDamage)
 
     @property
     def E(self) -> float:
@@ -208,8 +221,10 @@ class LogStrainPlasticity:
     def initial_state(self, shape: tuple[int, ...]) -> dict[str, np.ndarray]:
         state = {"Cp_inv": np.broadcast_to(np.eye(3), (*shape, 3, 3)).copy(), "eps_e": np.zeros((*shape, 6)),
                  "cauchy": np.zeros((*shape, 6)), "J": np.ones(shape)}
-        if self.plastic:
+        if self.plastic or self.damaged:
             state.update(alpha_p=np.zeros(shape), dissipation=np.zeros(shape))
+        if self.damaged:
+            state.update(d=np.zeros((*shape, self.base.n)), psi0=np.zeros(shape))
         return state
 
     def update(self, state, F, dt: float = 1.0, compiled: bool | None = None,
@@ -222,7 +237,7 @@ class LogStrainPlasticity:
         round-off (tested)."""
         F = check_shape("F", np.asarray(F, dtype=float), (..., 9))
         check_finite("F", F)
-        if HAVE_NUMBA if compiled is None else compiled:
+        if (HAVE_NUMBA if compiled is None else compiled) and not self.damaged:
             return self._update_compiled(state, F)
         F = F.reshape(*F.shape[:-1], 3, 3)
         J = np.linalg.det(F)
@@ -237,15 +252,22 @@ class LogStrainPlasticity:
 
         shape = J.shape
         base_state = self.base.initial_state(shape)
-        if self.plastic:
-            base_state["alpha_p"] = state["alpha_p"]
-            base_state["dissipation"] = state["dissipation"]
-        response = self.base.update(base_state, eps_trial, dt)
+        carried = [k for k in ("alpha_p", "dissipation", "d") if k in base_state and k in state]
+        for key in carried:
+            base_state[key] = np.broadcast_to(state[key], base_state[key].shape)
+        if self.damaged:
+            # the old strain, which Model II's seed tangent reads
+            base_state["eps"] = np.broadcast_to(state["eps_e"], base_state["eps"].shape)
+            response = self.base.update(base_state, eps_trial, dt, **loading)
+        else:
+            response = self.base.update(base_state, eps_trial, dt)
         tau = response.stress
         eps_e = eps_trial - response.state["eps_p"] if self.plastic else eps_trial
         new_state = {"J": J, "eps_e": eps_e, "cauchy": tau / J[..., None]}
+        new_state.update({key: response.state[key] for key in carried})
+        if self.damaged:
+            new_state["psi0"] = response.state["psi0"]
         if self.plastic:
-            new_state.update(alpha_p=response.state["alpha_p"], dissipation=response.state["dissipation"])
             # ε_e is coaxial with b_e^tr (radial return): its eigenvalues are the diagonal of Qᵀ ε_e Q
             w = np.einsum("...ia,...ij,...ja->...a", Q, T.from_mandel(eps_e), Q)
             b_e = np.einsum("...ia,...a,...ja->...ij", Q, np.exp(2.0 * w), Q)
@@ -288,12 +310,25 @@ class LogStrainPlasticity:
             P.reshape(*shape, 9), new_state,
             lambda: _kernels.log_strain_tangent(F_inv, Q, lam, D, P).reshape(*shape, 9, 9))
 
+    @property
+    def d_max(self) -> float:
+        """Model II's damage cap (a damaged base only)."""
+        return self.base.d_max
+
+    def effective_damage(self, state) -> np.ndarray:
+        """Model II's scalar damage 1 − √f̄ of each point (a damaged base only)."""
+        return self.base.effective_damage(state)
+
     def stored_energy(self, state) -> np.ndarray:
-        """ψ(ε_e) + ½ K_H α_p² per unit reference volume (MPa): the small-strain energy of the log elastic strain."""
+        """ψ(ε_e) + ½ K_H α_p² per unit reference volume (MPa): the small-strain energy of the log elastic strain
+        (Model II: f̄(d) ψ(ε_e) + ½ K_H α_p², Eq. 6.89)."""
+        if self.damaged:
+            return self.base.stored_energy({"eps": state["eps_e"], "eps_p": np.zeros_like(state["eps_e"]),
+                                            "d": state["d"], "alpha_p": state["alpha_p"]})
         energy = self.base.elastic_energy(state["eps_e"])
         if self.plastic:
             energy = energy + 0.5 * self.base.K_H * state["alpha_p"] ** 2
         return energy
 
     def dissipation(self, state) -> np.ndarray:
-        return state["dissipation"] if self.plastic else np.zeros(state["J"].shape)
+        return state["dissipation"] if self.plastic or self.damaged else np.zeros(state["J"].shape)

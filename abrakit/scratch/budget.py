@@ -18,9 +18,14 @@ contribution into
 and the other faces give ``faces``, the volume that left the block through its sides, bottom and ends (zero where
 they are fixed or slide in their own plane, as the symmetry plane does). The budget
 
-    shoulders + prow + faces − groove − sink = ∫ (J − 1) dV_0                                 (closes exactly)
+    shoulders + prow + faces + removed − groove − sink = ∫ (J − 1) dV_0                       (closes exactly)
 
-holds for any displacement field, so ``residual`` measures round-off only. It is exact for trilinear hexahedra on
+holds for any displacement field, so ``residual`` measures round-off only. ``removed`` is the current volume
+∫ J dV_0 of the elements counted as removed (Model II's damage at its cap): wear debris. Removed material above
+y = 0 leaves the shoulders (behind the apex) or the prow (ahead of it); removed material below y = 0 deepens the
+groove or the sink; each split is by the quadrature points' current positions, so the identity above stays exact
+and Eq. (8.5) in these terms, f_ab = 1 − shoulders/groove, counts removed material as worn. Without removal
+``removed`` is zero and the other terms are those of a plowing scratch. It is exact for trilinear hexahedra on
 an axis-parallel reference mesh: det(∂x/∂ξ) and y (x_ξ × x_η)_y are polynomials of degree ≤ 2 in each reference
 coordinate, which the 2 × 2 (× 2) Gauss rule integrates exactly.
 
@@ -53,6 +58,7 @@ class VolumeBudget(NamedTuple):
     faces: float
     volume_change: float
     residual: float
+    removed: float = 0.0
 
     @property
     def displaced(self) -> float:
@@ -115,10 +121,11 @@ class BoundaryFaces:
 
 
 def volume_budget(faces: BoundaryFaces, kinematics, points: np.ndarray, u: np.ndarray, z_tip: float,
-                  symmetry_factor: float = 2.0) -> VolumeBudget:
+                  symmetry_factor: float = 2.0, removed=None) -> VolumeBudget:
     """:class:`VolumeBudget` of the displacement ``u`` (basis DOFs) on the mesh with vertices ``points`` (3, n),
     split at the apex position ``z_tip`` (mm); ``kinematics`` is the mesh's
-    :class:`~abrakit.fem.Kinematics` (for J at its quadrature points)."""
+    :class:`~abrakit.fem.Kinematics` (for J at its quadrature points); ``removed`` (nel,) bool: the elements
+    counted as removed (module docstring), None for none."""
     nodal = np.asarray(kinematics.basis.nodal_dofs)
     x = points + u[nodal]
     w, q = faces.integrand(x)
@@ -131,15 +138,29 @@ def volume_budget(faces: BoundaryFaces, kinematics, points: np.ndarray, u: np.nd
         return k * float(np.sum(w[mask]))
 
     grad = kinematics.displacement_gradient(u)
-    volume_change = k * float(np.sum((np.linalg.det(np.eye(3) + grad) - 1.0) * kinematics.dx))
+    J = np.linalg.det(np.eye(3) + grad)
+    volume_change = k * float(np.sum((J - 1.0) * kinematics.dx))
     groove = -part(top & below & ~ahead)
     shoulders = part(top & ~below & ~ahead)
     prow = part(top & ~below & ahead)
     sink = -part(top & below & ahead)
     side = ~faces.is_top
     face_flux = k * float(np.sum(w[side]) - np.sum(w0[side]))
-    residual = shoulders + prow + face_flux - groove - sink - volume_change
-    return VolumeBudget(groove, shoulders, prow, sink, face_flux, volume_change, residual)
+    removed_volume = 0.0
+    if removed is not None and np.any(removed):
+        removed = np.asarray(removed, dtype=bool)
+        if removed.shape != (kinematics.nel,):
+            raise ValueError(f"removed must be one flag per element, shape ({kinematics.nel},), got {removed.shape}")
+        x = kinematics.quadrature_points[:, removed] + np.moveaxis(kinematics.displacement_at_points(u)[removed], -1, 0)
+        v = k * J[removed] * kinematics.dx[removed]                    # current volume of each point's share
+        up, front = x[1] > 0.0, x[2] > z_tip
+        shoulders -= float(np.sum(v[up & ~front]))
+        prow -= float(np.sum(v[up & front]))
+        groove += float(np.sum(v[~up & ~front]))
+        sink += float(np.sum(v[~up & front]))
+        removed_volume = float(np.sum(v))
+    residual = shoulders + prow + face_flux + removed_volume - groove - sink - volume_change
+    return VolumeBudget(groove, shoulders, prow, sink, face_flux, volume_change, residual, removed_volume)
 
 
 class SteadyRates(NamedTuple):
@@ -152,6 +173,7 @@ class SteadyRates(NamedTuple):
     sink: float
     faces: float
     volume_change: float
+    removed: float
     from_slide: float
 
     @property
@@ -172,6 +194,8 @@ def steady_rates(curves: dict, from_slide: float | None = None) -> SteadyRates:
         raise ValueError(f"from_slide {start:g} mm leaves fewer than three sliding increments")
 
     def rate(name):
+        if f"V_{name}" not in curves:                  # records written before the removed term: none removed
+            return 0.0
         return float(np.polyfit(s[window], np.asarray(curves[f"V_{name}"])[sliding][window], 1)[0])
 
     return SteadyRates(*(rate(n) for n in SteadyRates._fields[:-1]), from_slide=float(start))

@@ -22,7 +22,8 @@ __all__ = ["BUDGET_COLUMNS", "CURVE_COLUMNS", "PHASES", "ScratchRecorder"]
 PHASES = {"indentation": 0, "scratching": 1, "unloading": 2}
 BUDGET_COLUMNS = tuple(f"V_{name}" for name in VolumeBudget._fields)
 """Volume audit per increment, mm³ (whole grain): V_groove, V_shoulders, V_prow, V_sink, V_faces,
-V_volume_change (∫(J − 1) dV_0) and V_residual (the closure, round-off)."""
+V_volume_change (∫(J − 1) dV_0), V_residual (the closure, round-off) and V_removed (elements at the damage
+cap)."""
 CURVE_COLUMNS = ("step", "tau", "phase", "tip_y", "tip_z", "slide", "normal_force", "tangential_force",
                  "contact_area", "max_penetration", "closed_nodes", "slipping_nodes", "iterations",
                  "wall_time") + BUDGET_COLUMNS
@@ -33,16 +34,19 @@ class ScratchRecorder:
 
     path: the :class:`~abrakit.scratch.ScratchPath`; contact: the :class:`~abrakit.scratch.IndenterContact`;
     kinematics: the solver's kinematics; output: directory or None; vtu_every: field output interval (0: none);
-    extra_fields: ``f(state) -> {name: (nel,) array}`` added to the VTU cell data (e.g. the effective damage).
+    extra_fields: ``f(state) -> {name: (nel,) array}`` added to the VTU cell data (e.g. the effective damage);
+    removed: ``f(state) -> (nel,) bool``, the elements counted as removed in the volume audit (damage runs).
     """
 
-    def __init__(self, path, contact, kinematics, *, output=None, vtu_every: int = 10, extra_fields=None):
+    def __init__(self, path, contact, kinematics, *, output=None, vtu_every: int = 10, extra_fields=None,
+                 removed=None):
         self.path = path
         self.contact = contact
         self.kin = kinematics
         self.mesh = kinematics.basis.mesh
         self.faces = BoundaryFaces(self.mesh)
         self.extra_fields = extra_fields
+        self.removed = removed
         self.rows: list[dict] = []
         self.budget: VolumeBudget | None = None
         self.t_start = time.perf_counter()
@@ -53,18 +57,20 @@ class ScratchRecorder:
         self._cells = meshio_cells(self.mesh) if self.vtu is not None else None
         self._last_fields = None
 
-    def budget_at(self, u: np.ndarray, tau: float) -> VolumeBudget:
-        """Volume audit of ``u`` split at the apex position of pseudo-time ``tau``."""
+    def budget_at(self, u: np.ndarray, tau: float, state=None) -> VolumeBudget:
+        """Volume audit of ``u`` split at the apex position of pseudo-time ``tau`` (with the removed elements of
+        ``state`` where the run counts removal)."""
         tip = self.path.position(tau)
+        removed = self.removed(state) if self.removed is not None and state is not None else None
         return volume_budget(self.faces, self.kin, self.mesh.p, u, float(tip[2]),
-                             symmetry_factor=self.contact.symmetry_factor)
+                             symmetry_factor=self.contact.symmetry_factor, removed=removed)
 
     def __call__(self, result) -> None:
         self.contact.on_step(result)
         tau = float(result.load_factors[-1])
         tip = self.path.position(tau)
         f = self.contact.forces
-        self.budget = self.budget_at(result.u, tau)
+        self.budget = self.budget_at(result.u, tau, result.state)
         row = {"step": len(self.rows) + 1, "tau": tau, "phase": PHASES[self.path.phase(tau)],
                "tip_y": float(tip[1]), "tip_z": float(tip[2]), "slide": float(tip[2] - self.path.z_start),
                "normal_force": f.normal, "tangential_force": f.tangential, "contact_area": f.area,

@@ -11,7 +11,10 @@ The seed's set-up (Fig. 8.1–8.3, Table 8.1/8.2), in the axes of :mod:`abrakit.
   *effective* zone of uniform fine elements under the whole scratch (its footprint plus a margin), an
   *intermediate* zone whose element sizes grow geometrically, and the *coarse* far field they grow into;
 * material: St-52 with linear hardening (:data:`ST52`, Fig. 8.4 approximated linearly as the seed does), or
-  Model II (ERVE damage, Table 8.2) on top of it with ``damage=True``; elastic for the verifications;
+  Model II (ERVE damage, Table 8.2) on top of it with ``damage=True`` (in small strain, and at finite strain on
+  logarithmic strains, :class:`~abrakit.materials.LogStrainPlasticity`); elastic for the verifications;
+  elements whose damage reaches Model II's cap are counted as removed (``removed`` in the volume audit and
+  :attr:`ScratchResult.removed`);
 * contact: the rigid analytic tip with penalty contact and Coulomb friction, μ = 0.1
   (:class:`~abrakit.scratch.contact_term.IndenterContact`), penalty c_N = factor · E / h_y with h_y the top
   element layer (the seed: "the minimum of the master and slave surface stiffness", scaling factor 1);
@@ -288,9 +291,6 @@ class ScratchScene:
         check_option("kinematics", self.kinematics, ("small", "finite"))
         check_option("end_faces", self.end_faces, ("fixed", "free"))
         check_positive("hardening", self.hardening, allow_zero=True)
-        if self.kinematics == "finite" and self.damage:
-            raise ValueError("damage=True (Model II) needs kinematics='small': the finite-strain scene supports the "
-                             "plastic and elastic materials")
         if isinstance(self.mesh, str):
             check_option("mesh", self.mesh, tuple(MESH_LEVELS))
         check_positive("size", self.size)
@@ -718,6 +718,23 @@ def groove_along(specimen: Specimen, u: np.ndarray, scene: ScratchScene, z: np.n
     return GrooveAlong(np.asarray(z, dtype=float), *values)
 
 
+def element_damage(state) -> np.ndarray:
+    """One damage value per element: the largest sub-domain damage of Model II's ERVE, averaged over the
+    element's quadrature points, ``(nel,)``."""
+    return state["d"].max(axis=-1).mean(axis=1)
+
+
+def removed_elements(material):
+    """``f(state) -> (nel,) bool``: the elements whose :func:`element_damage` reached the material's cap (the
+    criterion of :func:`~abrakit.scratch.groove.removed_material`), for the volume audit."""
+    cap = material.d_max
+
+    def removed(state):
+        return removed_material(np.ones(state["d"].shape[0]), element_damage(state), cap, half=False).mask
+
+    return removed
+
+
 def run_scratch(scene: ScratchScene = ScratchScene(), *, output=None, progress: bool = False, vtu_every: int = 10,
                 linear_solver: str = "auto", newton: NewtonOptions | None = None, checkpoint_every: int = 10,
                 resume: bool = False) -> ScratchResult:
@@ -750,13 +767,15 @@ def run_scratch(scene: ScratchScene = ScratchScene(), *, output=None, progress: 
     if np.any(scene.indenter.gap(contact.reference, path.position(0.0)).gap < -1e-12):
         raise ValueError("the indenter starts inside the block: some surface nodes lie inside the tip at tau = 0")
 
+    converged_force = [np.zeros(3)]          # the tip force of the last converged increment (explicit rate limit)
+
     def loading(ctx):
         if not scene.damage:
             return {}
         if scene.damage_rate == "step":
             return {"external_work": 1.0}     # alpha [1/s] * dt [1 s]: the increment alpha*dt of Table 8.2
         tip_move = np.asarray(path.position(ctx.load_factor)) - path.position(ctx.load_factor - ctx.delta)
-        work = -contact.forces.force @ tip_move / contact.symmetry_factor      # on the half model, N mm
+        work = -converged_force[0] @ tip_move / contact.symmetry_factor        # on the half model, N mm
         return {"external_work": max(work, 0.0)}
 
     newton = newton or NewtonOptions(residual_tol=1e-4, increment_tol=1e-3, max_iterations=20,
@@ -768,7 +787,8 @@ def run_scratch(scene: ScratchScene = ScratchScene(), *, output=None, progress: 
 
     out = Path(output) if output is not None else None
     extra = (lambda st: {"effective_damage": material.effective_damage(st).mean(axis=1)}) if scene.damage else None
-    recorder = ScratchRecorder(path, contact, solver.kin, output=out, vtu_every=vtu_every, extra_fields=extra)
+    recorder = ScratchRecorder(path, contact, solver.kin, output=out, vtu_every=vtu_every, extra_fields=extra,
+                               removed=removed_elements(material) if scene.damage else None)
     u = np.zeros(basis.N)
     state = material.initial_state((solver.kin.nel, solver.kin.nqp))
     iterations = cutbacks = 0
@@ -784,6 +804,7 @@ def run_scratch(scene: ScratchScene = ScratchScene(), *, output=None, progress: 
 
     def on_step(res):            # ``iterations``/``cutbacks``: the counts before the phase that is running
         recorder(res)
+        converged_force[0] = np.array(contact.forces.force, dtype=float)
         if checkpoint is not None and checkpoint_every and len(recorder.rows) % checkpoint_every == 0:
             save(res.u, res.state, float(res.load_factors[-1]), iterations + int(res.iterations.sum()),
                  res.continuation)
@@ -798,6 +819,8 @@ def run_scratch(scene: ScratchScene = ScratchScene(), *, output=None, progress: 
             continuation = saved["continuation"]
             recorder.restart(saved["meta"]["record"])
             contact.restore(saved["arrays"], saved["meta"]["contact"])
+            if contact.forces is not None:
+                converged_force[0] = np.array(contact.forces.force, dtype=float)
         for start, end, dtau in _segments(scene, spec):
             if end <= tau_done:                                              # done before the checkpoint
                 continue
@@ -841,7 +864,7 @@ def run_scratch(scene: ScratchScene = ScratchScene(), *, output=None, progress: 
         kin = solver.kin
         centres = mesh.p[:, mesh.t].mean(axis=1).T
         window = (scene.z_section - 0.25 * scene.slide, scene.z_section + 0.25 * scene.slide) if scene.slide else None
-        removed = removed_material(kin.dx.sum(axis=1), state["d"].max(axis=-1).mean(axis=1), material.d_max,
+        removed = removed_material(kin.dx.sum(axis=1), element_damage(state), material.d_max,
                                    half=True, centres=centres if window else None, z_range=window)
     steady = (curves["phase"] == PHASES["scratching"]) & (curves["slide"] >= 2.0 * scene.footprint)
     if scene.slide > 0.0 and not np.any(steady):
