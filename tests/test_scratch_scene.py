@@ -211,6 +211,35 @@ def test_an_unphysically_deep_iterate_gives_a_non_finite_residual_for_the_cutbac
     assert not np.all(np.isfinite(residual))
 
 
+def test_removed_surface_nodes_leave_the_contact_for_good():
+    """Nodes of removed material carry no traction even inside the tip (the deep node above would otherwise be
+    refused), count in no force, area or penetration, and stay removed through a checkpoint."""
+    scene = ScratchScene(mesh="demo", size=TINY_BLOCK, slide=0.01)
+    specimen = build_specimen(scene)
+    contact = IndenterContact(specimen.basis, SphericalIndenter(0.05), scene.path.position, c_N=2e8)
+    u = np.zeros(specimen.basis.N)
+    contact.reset(1.0, u)
+    apex = scene.path.position(1.0)
+    node = np.argmin(np.linalg.norm(contact.reference - apex, axis=1))
+    pressed = u.copy()
+    pressed[contact.dofs[:, 1]] = 1e-4                                  # every node 0.1 um above: all pressed
+    pressed[contact.dofs[node]] = apex + [0.0, 0.05, 0.0] - contact.reference[node]   # one at the centre
+    ctx = StepContext(1, 1.0, 0.0, 1.0, 0.0, 0, pressed, u, {}, u)
+    gone = np.zeros(contact.nodes.size, bool)
+    gone[node] = True
+    assert contact.remove(gone) == 1 and contact.remove(gone) == 0
+    residual, _ = contact(pressed, ctx)
+    assert np.all(np.isfinite(residual)) and np.all(residual[contact.dofs[node]] == 0.0)
+    assert contact.penetration(pressed, 1.0)[node] == 0.0
+    contact.commit(pressed, 1.0)
+    arrays, meta = contact.snapshot()
+    fresh = IndenterContact(specimen.basis, SphericalIndenter(0.05), scene.path.position, c_N=2e8)
+    fresh.restore(arrays, meta)
+    assert not fresh.active[node] and fresh.active.sum() == contact.nodes.size - 1
+    with pytest.raises(ValueError, match="every surface node"):
+        contact.remove(np.ones(3, bool))
+
+
 # ---- Model II in the scene ---------------------------------------------------------------------------------------
 
 

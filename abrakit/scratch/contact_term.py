@@ -54,6 +54,7 @@ import scipy.sparse as sp
 import skfem
 
 from abrakit.scratch.contact import OPEN, SLIP, STICK, contact_response, initial_state
+from abrakit.scratch.indenters import SurfaceGap
 from abrakit.validation import check_positive
 
 __all__ = ["CHATTER_FLIPS", "ContactForces", "IndenterContact", "nodal_areas", "surface_facets"]
@@ -151,6 +152,7 @@ class IndenterContact:
     def reset(self, load_factor: float | None = None, u: np.ndarray | None = None) -> None:
         """Forget all contact history (virgin surface); the next evaluation fixes the start of the first step."""
         self.holds: list[tuple[float, int, float]] = []   # (tau, nodes held, their share of the Coulomb force)
+        self.active = np.ones(self.nodes.size, dtype=bool)   # nodes of removed material leave the contact
         self._step = None
         self.state = initial_state(self.nodes.size)
         self._tau = load_factor
@@ -177,7 +179,7 @@ class IndenterContact:
     def snapshot(self) -> tuple[dict, dict]:
         """The committed history a resumed run needs, as (arrays, JSON-able numbers); :meth:`restore` takes it back."""
         arrays = {f"contact_state__{k}": v for k, v in self.state.items()}
-        arrays |= {"contact_pressure": self.pressure, "contact_u": self._u}
+        arrays |= {"contact_pressure": self.pressure, "contact_u": self._u, "contact_active": self.active}
         forces = self.forces._asdict() | {"force": [float(v) for v in self.forces.force]}
         return arrays, {"tau": self._tau, "forces": forces}
 
@@ -186,6 +188,8 @@ class IndenterContact:
         self.state = {k.removeprefix("contact_state__"): np.array(v) for k, v in arrays.items()
                       if k.startswith("contact_state__")}
         self.pressure = np.array(arrays["contact_pressure"], dtype=float)
+        if "contact_active" in arrays:                     # checkpoints written before removal: all active
+            self.active = np.array(arrays["contact_active"], dtype=bool)
         self._u = None if meta["tau"] is None else np.array(arrays["contact_u"], dtype=float)
         self._tau = meta["tau"]
         self.forces = ContactForces(**{**meta["forces"], "force": np.array(meta["forces"]["force"])})
@@ -194,6 +198,31 @@ class IndenterContact:
     def on_step(self, result) -> None:
         """``Solver.run(on_step=...)`` callback: commits the converged step of ``result``."""
         self.commit(result.u, float(result.load_factors[-1]))
+
+    def remove(self, nodes) -> int:
+        """Take the surface nodes flagged in ``nodes`` (bool, one per surface node) out of the contact for good:
+        they belong to removed material, which the tip passes through. Returns how many were newly removed."""
+        nodes = np.asarray(nodes, dtype=bool)
+        if nodes.shape != self.active.shape:
+            raise ValueError(f"nodes must flag every surface node, shape {self.active.shape}, got {nodes.shape}")
+        newly = int(np.sum(nodes & self.active))
+        self.active &= ~nodes
+        return newly
+
+    def _surface(self, x, tip) -> SurfaceGap:
+        """The tip's gap, normal and ∂n/∂x at the surface nodes ``x`` (n, 3); removed nodes are reported far and
+        open (gap of one tip radius, no curvature), so they carry nothing and never count as penetrating."""
+        if self.active.all():
+            return self.indenter.gap(x, tip)
+        live = self.indenter.gap(x[self.active], tip)
+        n = x.shape[0]
+        gap = np.full(n, float(self.indenter.radius))
+        normal = np.tile(np.array([0.0, -1.0, 0.0]), (n, 1))
+        closest = x.copy()
+        gradient = np.zeros((n, 3, 3))
+        gap[self.active], normal[self.active] = live.gap, live.normal
+        closest[self.active], gradient[self.active] = live.closest, live.normal_gradient
+        return SurfaceGap(gap, normal, closest, gradient)
 
     # ---- the solver term -------------------------------------------------------------------------------------
     def __call__(self, u, ctx):
@@ -245,7 +274,7 @@ class IndenterContact:
         tip_old = np.asarray(self.position(tau_old), dtype=float)
         x = self.reference + u[self.dofs]
         x_old = self.reference + u_old[self.dofs]
-        surface = self.indenter.gap(x, tip)
+        surface = self._surface(x, tip)
         increment = (x - x_old) - (tip - tip_old)
         held = None if held is None or not held.any() else held          # zero rows: not held
         response = contact_response(
@@ -289,7 +318,7 @@ class IndenterContact:
     def penetration(self, u, load_factor) -> np.ndarray:
         """Penetration ⟨−g_N⟩ of every surface node at ``u`` for the tip at ``load_factor``, mm."""
         x = self.reference + np.asarray(u)[self.dofs]
-        return np.maximum(-self.indenter.gap(x, np.asarray(self.position(load_factor))).gap, 0.0)
+        return np.maximum(-self._surface(x, np.asarray(self.position(load_factor))).gap, 0.0)
 
     def pressure_field(self, n_points: int) -> np.ndarray:
         """Committed contact pressure at every mesh node (zero off the surface), MPa, for field output."""

@@ -735,6 +735,22 @@ def removed_elements(material):
     return removed
 
 
+def surface_nodes_of(removed, mesh, nodes):
+    """``f(state) -> (len(nodes),) bool``: the surface ``nodes`` all of whose elements ``removed(state)`` flags
+    (a node with one intact element keeps touching the tip)."""
+    import scipy.sparse as sp
+
+    incidence = sp.csr_matrix((np.ones(mesh.t.size), (mesh.t.ravel(), np.tile(np.arange(mesh.t.shape[1]),
+                                                                                 mesh.t.shape[0]))),
+                              shape=(mesh.p.shape[1], mesh.t.shape[1]))[nodes]
+    count = np.asarray(incidence.sum(axis=1)).ravel()
+
+    def flagged(state):
+        return incidence @ removed(state).astype(float) >= count
+
+    return flagged
+
+
 def run_scratch(scene: ScratchScene = ScratchScene(), *, output=None, progress: bool = False, vtu_every: int = 10,
                 linear_solver: str = "auto", newton: NewtonOptions | None = None, checkpoint_every: int = 10,
                 resume: bool = False) -> ScratchResult:
@@ -768,6 +784,7 @@ def run_scratch(scene: ScratchScene = ScratchScene(), *, output=None, progress: 
         raise ValueError("the indenter starts inside the block: some surface nodes lie inside the tip at tau = 0")
 
     converged_force = [np.zeros(3)]          # the tip force of the last converged increment (explicit rate limit)
+    removed_nodes = surface_nodes_of(removed_elements(material), mesh, contact.nodes) if scene.damage else None
 
     def loading(ctx):
         if not scene.damage:
@@ -805,6 +822,8 @@ def run_scratch(scene: ScratchScene = ScratchScene(), *, output=None, progress: 
     def on_step(res):            # ``iterations``/``cutbacks``: the counts before the phase that is running
         recorder(res)
         converged_force[0] = np.array(contact.forces.force, dtype=float)
+        if removed_nodes is not None:                   # removed material leaves the contact
+            contact.remove(removed_nodes(res.state))
         if checkpoint is not None and checkpoint_every and len(recorder.rows) % checkpoint_every == 0:
             save(res.u, res.state, float(res.load_factors[-1]), iterations + int(res.iterations.sum()),
                  res.continuation)
