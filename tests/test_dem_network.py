@@ -144,6 +144,8 @@ def test_elastic_constants_of_an_isotropic_stiffness_are_exact():
         elastic_constants(np.eye(3))
     with pytest.raises(ValueError, match="finite"):
         elastic_constants(np.full((6, 6), np.nan))
+    with pytest.raises(ValueError, match="non-zero"):
+        elastic_constants(np.zeros((6, 6)))           # no NaN from finite input
 
 
 def test_velocity_driven_motion_loads_the_springs_as_the_jump_does(packing):
