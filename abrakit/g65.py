@@ -35,6 +35,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from abrakit.validation import check_number_fields, check_option, check_positive, check_range, number_arguments
+from abrakit.wear import contacting_particles, wheel_surface_speed
 
 __all__ = [
     "ASTM_G65_STANDARD",
@@ -98,7 +99,7 @@ class G65Standard:
     @property
     def wheel_speed(self) -> float:
         """Surface speed of the wheel, π D n / 60 [m/s]."""
-        return float(np.pi * self.wheel_diameter * self.rpm / 60.0)
+        return float(wheel_surface_speed(self.rpm, self.wheel_diameter))
 
     @property
     def coupon_volume(self) -> float:
@@ -185,7 +186,7 @@ def grains_in_contact(D: float, contact_area: float, force: float = 130.0, grain
     force, grain_force = check_positive("force", force), check_positive("grain_force", grain_force)
     volume = np.pi / 6.0 * D**3
     transit = contact_zone(force, standard)["length"] / standard.wheel_speed
-    return {"seed": 0.9 / D**2 * area, "monolayer": 0.9069 * area / (np.pi * D**2 / 4.0),
+    return {"seed": float(contacting_particles(D)) * area, "monolayer": 0.9069 * area / (np.pi * D**2 / 4.0),
             "sand_flow": sand_volume_flow(standard)[1] / volume * transit, "load": force / grain_force}
 
 

@@ -80,11 +80,15 @@ def contact_stiffness_terms(sim):
     return i, j, n, l, p.radius[i] - 0.5 * overlap, p.radius[j] - 0.5 * overlap, K
 
 
+def _affine(D, K) -> np.ndarray:
+    """A = Σ_c D_cᵀ K_c D_c, the springs' energy of an affine Voigt strain (6, 6)."""
+    return np.einsum("cak,cab,cbm->km", D, K, D)
+
+
 def affine_stiffness(sim) -> np.ndarray:
     """A/V: the (6, 6) Voigt stiffness of the affine deformation (no fluctuations, no rotations) [Pa]."""
     _, _, _, l, _, _, K = contact_stiffness_terms(sim)
-    D = _strain_map(l)
-    return np.einsum("cak,cab,cbm->km", D, K, D) / _volume(sim)
+    return _affine(_strain_map(l), K) / _volume(sim)
 
 
 def _volume(sim) -> float:
@@ -121,7 +125,7 @@ def network_stiffness(sim) -> ElasticConstants:
     KG = K @ G
     h_local = np.einsum("cap,caq->cpq", G, KG)                          # (K, 12, 12)
     b_local = np.einsum("cap,cak->cpk", KG, D)                          # (K, 12, 6)
-    A = np.einsum("cak,cab,cbm->km", D, K, D)
+    A = _affine(D, K)
     dofs = np.concatenate([6 * i[:, None] + np.arange(6), 6 * j[:, None] + np.arange(6)], axis=1)   # (K, 12)
     size = 6 * len(sim.particles)
     rows = np.repeat(dofs, 12, axis=1).ravel()

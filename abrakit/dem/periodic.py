@@ -104,22 +104,25 @@ class Periodic:
         """Fractional coordinates s = h⁻¹ (x − lower) of positions ``(N, 3)``."""
         return (x - self.lower) @ self.inverse.T
 
+    def _wrapped_fractional(self, x: np.ndarray) -> np.ndarray:
+        """Fractional coordinates of positions ``(N, 3)`` brought into [0, 1) (mod may round up to 1)."""
+        s = np.mod(self.fractional(x), 1.0)
+        return np.where(s >= 1.0, 0.0, s)
+
     def wrap(self, x: np.ndarray) -> None:
         """Move positions ``(N, 3)`` into the cell, in place."""
         if not self.tilted:
             x[:] = self.lower + np.mod(x - self.lower, self.lengths)
             x[:] = np.where(x >= self.lower + self.lengths, self.lower, x)   # mod may round up to L
             return
-        s = np.mod(self.fractional(x), 1.0)
-        x[:] = self.lower + np.where(s >= 1.0, 0.0, s) @ self.matrix.T
+        x[:] = self.lower + self._wrapped_fractional(x) @ self.matrix.T
 
     def search_coordinates(self, x: np.ndarray) -> tuple[np.ndarray, float]:
         """Positions for a toroidal ``cKDTree(boxsize=lengths)`` and the factor by which a search radius must
         grow there: the fractional coordinates scaled by the lengths (the positions themselves without tilt)."""
         if not self.tilted:
             return np.minimum(x - self.lower, np.nextafter(self.lengths, 0)), 1.0
-        s = np.mod(self.fractional(x), 1.0)
-        scaled = np.minimum(s * self.lengths, np.nextafter(self.lengths, 0))
+        scaled = np.minimum(self._wrapped_fractional(x) * self.lengths, np.nextafter(self.lengths, 0))
         return scaled, float(np.linalg.norm(np.diag(self.lengths) @ self.inverse, 2))
 
     def minimum_image(self, d: np.ndarray, axis: int = -1) -> np.ndarray:

@@ -189,7 +189,7 @@ class LogStrainPlasticity:
     elastic strain ``eps_e`` and the Cauchy stress ``cauchy`` (Mandel, MPa) for output, and ``J`` = det F.
     """
 
-    base: VonMisesPlasticity | LinearElastic
+    base: VonMisesPlasticity | LinearElastic | ModelIIDamage
 
     def __post_init__(self):
         if not isinstance(self.base, (VonMisesPlasticity, LinearElastic, ModelIIDamage)):

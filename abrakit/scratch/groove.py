@@ -33,6 +33,7 @@ __all__ = [
     "GrooveMetrics",
     "Profile",
     "RemovedMaterial",
+    "at_cap",
     "groove_metrics",
     "profile_from_surface_nodes",
     "removed_material",
@@ -282,6 +283,12 @@ class RemovedMaterial(NamedTuple):
     area: float | None
 
 
+def at_cap(damage, cap: float, rtol: float = 1e-9) -> np.ndarray:
+    """Where ``damage`` has reached the ``cap`` (within ``rtol``): the removal criterion of
+    :func:`removed_material` and of the scratch's volume audit."""
+    return np.asarray(damage) >= cap * (1.0 - rtol)
+
+
 @number_arguments
 def removed_material(volumes: ArrayLike, damage: ArrayLike, cap: float, *, half: bool, centres=None, z_range=None,
                      rtol: float = 1e-9) -> RemovedMaterial:
@@ -299,7 +306,7 @@ def removed_material(volumes: ArrayLike, damage: ArrayLike, cap: float, *, half:
     cap = float(np.asarray(check_positive("cap", cap)))
     if cap > 1.0:
         raise ValueError(f"cap must lie in (0, 1], got {cap!r}")
-    mask = damage >= cap * (1.0 - rtol)
+    mask = at_cap(damage, cap, rtol)
     area = None
     if z_range is not None:
         if centres is None:

@@ -47,6 +47,7 @@ class ScratchRecorder:
         self.faces = BoundaryFaces(self.mesh)
         self.extra_fields = extra_fields
         self.removed = removed
+        self.removed_mask: np.ndarray | None = None       # the elements removed at the last audit
         self.rows: list[dict] = []
         self.budget: VolumeBudget | None = None
         self.t_start = time.perf_counter()
@@ -62,6 +63,7 @@ class ScratchRecorder:
         ``state`` where the run counts removal)."""
         tip = self.path.position(tau)
         removed = self.removed(state) if self.removed is not None and state is not None else None
+        self.removed_mask = removed
         return volume_budget(self.faces, self.kin, self.mesh.p, u, float(tip[2]),
                              symmetry_factor=self.contact.symmetry_factor, removed=removed)
 

@@ -66,6 +66,7 @@ from abrakit.scratch.groove import (
     GrooveMetrics,
     Profile,
     RemovedMaterial,
+    at_cap,
     groove_metrics,
     profile_from_surface_nodes,
     removed_material,
@@ -725,30 +726,22 @@ def element_damage(state) -> np.ndarray:
 
 
 def removed_elements(material):
-    """``f(state) -> (nel,) bool``: the elements whose :func:`element_damage` reached the material's cap (the
-    criterion of :func:`~abrakit.scratch.groove.removed_material`), for the volume audit."""
-    cap = material.d_max
-
-    def removed(state):
-        return removed_material(np.ones(state["d"].shape[0]), element_damage(state), cap, half=False).mask
-
-    return removed
+    """``f(state) -> (nel,) bool``: the elements whose :func:`element_damage` reached the material's cap
+    (:func:`~abrakit.scratch.groove.at_cap`, the criterion of :func:`~abrakit.scratch.groove.removed_material`),
+    for the volume audit."""
+    return lambda state: at_cap(element_damage(state), material.d_max)
 
 
-def surface_nodes_of(removed, mesh, nodes):
-    """``f(state) -> (len(nodes),) bool``: the surface ``nodes`` all of whose elements ``removed(state)`` flags
-    (a node with one intact element keeps touching the tip)."""
+def surface_nodes_of(mesh, nodes):
+    """``f(removed) -> (len(nodes),) bool``: the surface ``nodes`` all of whose elements the element mask
+    ``removed`` (nel,) flags (a node with one intact element keeps touching the tip)."""
     import scipy.sparse as sp
 
     incidence = sp.csr_matrix((np.ones(mesh.t.size), (mesh.t.ravel(), np.tile(np.arange(mesh.t.shape[1]),
                                                                                  mesh.t.shape[0]))),
                               shape=(mesh.p.shape[1], mesh.t.shape[1]))[nodes]
     count = np.asarray(incidence.sum(axis=1)).ravel()
-
-    def flagged(state):
-        return incidence @ removed(state).astype(float) >= count
-
-    return flagged
+    return lambda removed: incidence @ removed.astype(float) >= count
 
 
 def run_scratch(scene: ScratchScene = ScratchScene(), *, output=None, progress: bool = False, vtu_every: int = 10,
@@ -784,7 +777,7 @@ def run_scratch(scene: ScratchScene = ScratchScene(), *, output=None, progress: 
         raise ValueError("the indenter starts inside the block: some surface nodes lie inside the tip at tau = 0")
 
     converged_force = [np.zeros(3)]          # the tip force of the last converged increment (explicit rate limit)
-    removed_nodes = surface_nodes_of(removed_elements(material), mesh, contact.nodes) if scene.damage else None
+    removed_nodes = surface_nodes_of(mesh, contact.nodes) if scene.damage else None
 
     def loading(ctx):
         if not scene.damage:
@@ -822,8 +815,8 @@ def run_scratch(scene: ScratchScene = ScratchScene(), *, output=None, progress: 
     def on_step(res):            # ``iterations``/``cutbacks``: the counts before the phase that is running
         recorder(res)
         converged_force[0] = np.array(contact.forces.force, dtype=float)
-        if removed_nodes is not None:                   # removed material leaves the contact
-            contact.remove(removed_nodes(res.state))
+        if removed_nodes is not None:                   # removed material (the audit's mask) leaves the contact
+            contact.remove(removed_nodes(recorder.removed_mask))
         if checkpoint is not None and checkpoint_every and len(recorder.rows) % checkpoint_every == 0:
             save(res.u, res.state, float(res.load_factors[-1]), iterations + int(res.iterations.sum()),
                  res.continuation)
