@@ -100,6 +100,20 @@ DECISIONS: tuple[Decision, ...] = (
               "tests/test_g65.py::test_rubber_modulus_by_gent_and_the_hertz_contact_of_the_wheel",
               "tests/test_g65.py::test_the_plastic_groove_grows_as_the_load_to_the_power_three_halves"), "wear",
              "reconstruction"),
+    Decision("the degree of wear of one grain", "read from one section of a 100 µm scratch (0.37 and 0.12)",
+             "the steady rate of the volume budget, (rate of A_g − rate of A_s)/rate of A_g, over the second half "
+             "of a 200 µm slide; its uncertainty from the last quarter's rate, nine wake sections and the mesh "
+             "levels", "the sections fall along the wake: a 100 µm slide is still in the indentation's transient "
+             "(rates 0.14–0.20), a 200 µm slide gives 0.056–0.057 on two meshes, 0.04 over its last quarter and "
+             "0.07 (range 0.07) from the sections", ("benchmarks/bench_scratch_speed.py",), "scratch_to_wear",
+             "choice"),
+    Decision("load increments of the scratch", "not stated (an Abaqus/Standard run)",
+             "indentation in 5 increments, the slide in h_z/4 increments starting at a quarter of one, Newton's "
+             "correction criterion 10⁻² of the increment (Abaqus' default), residual 10⁻⁴ of the largest force",
+             "fewer Newton iterations for the same grooves (within 2 %); larger slide increments cut back",
+             ("tests/test_scratch_scene.py::"
+              "test_the_faster_increment_control_changes_no_groove_beyond_its_tolerances",
+              "benchmarks/bench_scratch_speed.py"), "scratch", "choice"),
     Decision("contact area of Table 8.4", "not stated", "A_c = 114.62 mm², derived from the table",
              "one area reproduces every printed rate to its printed digits; the midpoint of the admissible band",
              ("tests/test_wear.py::test_scaling_area_is_derived_from_the_table",

@@ -1,19 +1,21 @@
 """Benchmark of the scratch in the scene's own physics (finite strain, F-bar): time against error over the mesh levels.
 
 The seed's scene (sphere R = 50 µm, d = 2 µm, μ = 0.1, St-52, 100 µm slide on the 200 µm block) on the mesh
-levels of :data:`abrakit.scratch.scene.MESH_LEVELS` ("demo", "coarse", "default"; "fine" without ``--quick``), and
-the long slide that reaches the plowing limit (the "coarse" mesh, 200 µm on a 300 µm block), and the live scene of
-``abrakit demo`` and the book (``demo_scene``). Per run: wall time,
+levels of :data:`abrakit.scratch.scene.MESH_LEVELS` ("demo", "coarse", "default"; "fine" without ``--quick``), the
+live scene of ``abrakit demo`` (``demo_scene``), and every level again with the 200 µm slide on a 300 µm block
+(``<level>_long``: the slide that reaches the plowing limit, and issue 39's robustness check). Per run: wall time,
 DOF, increments, Newton iterations, cutbacks, the mean normal force F_N over the second half of the slide, the
-groove area A_g after unloading, the steady-rate degree of wear f_ab from the volume budget
-(:func:`abrakit.scratch.budget.steady_rates`), and their errors against the finest finished level. A run that
-stops keeps its row with the named cause (``stopped``).
+groove area A_g after unloading, the degree of wear f_ab three ways (the steady rates of the volume budget over the
+second half of the slide and over its last quarter, :func:`abrakit.scratch.budget.steady_rates`; the mean and range
+of nine wake sections after unloading, from mid-slide to two footprint radii before the end), and the errors of
+F_N, A_g and f_ab (rates) against the finest finished level of the same slide. A run that stops keeps its row with
+the named cause (``stopped``).
 
 Targets of issue 39, measured here (not in a timed test): default scene under 300 s, coarse mesh with the 200 µm
 slide under 240 s, the demo scene under 30 s, on the 2-core machine.
 
-Every run writes ``scratch_speed/<name>/`` (forces.csv, summary.json, a checkpoint) as it goes and is resumed by
-a later call; finished runs are read back. Writes ``scratch_speed.csv``, ``scratch_speed.json`` and
+Every run writes ``scratch_speed/<name>/`` (forces.csv, summary.json, a checkpoint, u.npy at the end) as it goes
+and is resumed by a later call; finished runs are read back. Writes ``scratch_speed.csv``, ``scratch_speed.json`` and
 ``scratch_speed.png``.
 
     python benchmarks/bench_scratch_speed.py [--quick] [--outdir DIR]
@@ -31,23 +33,28 @@ from _common import RESULTS, command_line, save_figure
 from abrakit.fem import StepFailed
 from abrakit.io import CurveWriter, read_curve, read_json, write_json
 from abrakit.scratch.budget import steady_rates
-from abrakit.scratch.scene import DEMO_SCENE, ScratchScene, run_scratch
+from abrakit.scratch.scene import DEMO_SCENE, ScratchScene, build_specimen, groove_along, run_scratch
 
 TARGETS_S = {"default": 300.0, "coarse_long": 240.0, "demo_scene": 30.0}
 """Wall-time targets of issue 39, s (2-core machine); "demo_scene" is the live scene of ``abrakit demo`` and the
 book (:data:`~abrakit.scratch.scene.DEMO_SCENE`: demo mesh, 30 µm slide on a 100 µm block)."""
 
 COLUMNS = ("name", "mesh", "slide_um", "length_um", "dofs", "increments", "newton_iterations", "cutbacks",
-           "wall_time_s", "target_s", "status", "F_N", "A_g_um2", "f_ab_rates", "F_N_error", "A_g_error",
-           "f_ab_rates_error", "note")
+           "wall_time_s", "target_s", "status", "F_N", "A_g_um2", "f_ab_rates", "f_ab_rates_last_quarter",
+           "f_ab_sections", "f_ab_sections_spread", "F_N_error", "A_g_error", "f_ab_rates_error", "note")
+
+
+LEVELS = ("demo", "coarse", "default", "fine")
 
 
 def planned(quick: bool) -> dict[str, ScratchScene]:
-    """The runs, coarse to fine, then the long slide."""
-    levels = ["demo", "coarse", "default"] + ([] if quick else ["fine"])
+    """The runs: every level with the seed's 100 µm slide, the live scene, then every level with the 200 µm slide
+    on a 300 µm block (the long slide that reaches the plowing limit)."""
+    levels = list(LEVELS[:3] if quick else LEVELS)
     plan = {level: ScratchScene(mesh=level) for level in levels}
-    plan["coarse_long"] = ScratchScene(mesh="coarse", slide=0.2, size=(0.1, 0.015, 0.3))
     plan["demo_scene"] = DEMO_SCENE
+    for level in levels:                          # every level through the 200 µm slide (issue 39's robustness)
+        plan[f"{level}_long"] = ScratchScene(mesh=level, slide=0.2, size=(0.1, 0.015, 0.3))
     return plan
 
 
@@ -57,6 +64,7 @@ def run_or_resume(folder: Path, scene: ScratchScene) -> dict:
         return read_json(folder / "summary.json") | {"status": "finished"}
     try:
         result = run_scratch(scene, output=folder, vtu_every=0, resume=True)
+        np.save(folder / "u.npy", result.u)                    # the end state, for the wake's sections
     except StepFailed as stopped:
         curves = read_curve(folder / "forces.csv")
         note = str(stopped).replace(str(folder), f"scratch_speed/{folder.name}")     # no machine path stored
@@ -72,6 +80,8 @@ def row_of(name: str, scene: ScratchScene, summary: dict, folder: Path) -> dict:
     second_half = sliding & (curves["slide"] >= 0.5 * scene.slide)
     finished = summary["status"] == "finished"
     rates = steady_rates(curves).degree_of_wear if finished else np.nan
+    last_quarter = steady_rates(curves, 0.75 * scene.slide).degree_of_wear if finished else np.nan
+    wake = wake_sections(scene, folder) if finished else np.full(0, np.nan)
     groove = summary.get("groove_unloaded") or {}
     return {
         "name": name, "mesh": scene.mesh, "slide_um": scene.slide * 1e3, "length_um": scene.size[2] * 1e3,
@@ -79,20 +89,34 @@ def row_of(name: str, scene: ScratchScene, summary: dict, folder: Path) -> dict:
                                                 "wall_time_s")},
         "target_s": TARGETS_S.get(name, np.nan), "status": summary["status"],
         "F_N": float(curves["normal_force"][second_half].mean()) if np.any(second_half) else np.nan,
-        "A_g_um2": groove.get("A_g_um2", np.nan), "f_ab_rates": rates, "note": summary.get("note", ""),
+        "A_g_um2": groove.get("A_g_um2", np.nan), "f_ab_rates": rates, "f_ab_rates_last_quarter": last_quarter,
+        "f_ab_sections": float(np.mean(wake)) if wake.size else np.nan,
+        "f_ab_sections_spread": float(np.ptp(wake)) if wake.size else np.nan, "note": summary.get("note", ""),
     }
+
+
+def wake_sections(scene: ScratchScene, folder: Path) -> np.ndarray:
+    """f_ab of the wake's sections after unloading, from the second half of the slide to two footprint radii before
+    its end (the crater where the tip lifted): the sections beyond the transient of the indentation."""
+    if not (folder / "u.npy").exists():
+        return np.full(0, np.nan)
+    z0, z1 = scene.path.z_start + 0.5 * scene.slide, scene.path.z_start + scene.slide - 2.0 * scene.footprint
+    along = groove_along(build_specimen(scene), np.load(folder / "u.npy"), scene, np.linspace(z0, z1, 9))
+    return along.degree_of_wear[np.isfinite(along.degree_of_wear)]
 
 
 def with_errors(rows: dict[str, dict]) -> str | None:
     """Relative errors of F_N, A_g and f_ab (rates) against the finest finished level (100 µm slide runs)."""
-    levels = [n for n in ("fine", "default", "coarse", "demo") if n in rows and rows[n]["status"] == "finished"]
+    levels = [n for n in LEVELS[::-1] if n in rows and rows[n]["status"] == "finished"]
     if not levels:
         return None
     reference = rows[levels[0]]
     for name, row in rows.items():
-        same_scene = name in ("demo", "coarse", "default", "fine")
+        long = name.endswith("_long")
+        ref = rows.get(f"{levels[0]}_long") if long else reference
         for key in ("F_N", "A_g_um2", "f_ab_rates"):
-            error = abs(row[key] / reference[key] - 1.0) if same_scene else np.nan
+            comparable = (name.removesuffix("_long") in LEVELS and ref is not None and ref["status"] == "finished")
+            error = abs(row[key] / ref[key] - 1.0) if comparable else np.nan
             row[f"{key.removesuffix('_um2')}_error"] = error
     return levels[0]
 

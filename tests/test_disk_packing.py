@@ -44,7 +44,17 @@ def test_disk_packing_settles_jammed_at_the_requested_stress():
         disk_packing(size, radii, np.random.default_rng(1), modulus=1e9, thickness=0.05, stress=2e3, max_rounds=0)
 
 
+def test_a_graded_beam_spec_refuses_an_unknown_grading_or_a_radius_ratio_of_one():
+    with pytest.raises(ValueError, match="grading"):
+        BeamSpec(grading="sieve")
+    with pytest.raises(ValueError, match="radius_ratio"):
+        BeamSpec(radius_ratio=1.0)
+
+
+@pytest.mark.slow
 def test_graded_beam_is_bonded_nearly_stress_free_and_cached(tmp_path, monkeypatch):
+    """Slow (a genesis and a relaxation from an empty cache, 50–90 s: the longest test of ``make test`` until it was
+    marked; the bending chapter builds the same beam in every book build)."""
     monkeypatch.setenv("ABRAKIT_CACHE", str(tmp_path))
     spec = BeamSpec(radius=6e-3, grading="fuller")
     beam = four_point_beam(spec)
@@ -58,7 +68,3 @@ def test_graded_beam_is_bonded_nearly_stress_free_and_cached(tmp_path, monkeypat
     tic = time.perf_counter()
     again = four_point_beam(spec)
     assert np.array_equal(again.sim.particles.x, p.x) and time.perf_counter() - tic < 0.5 * 60
-    with pytest.raises(ValueError, match="grading"):
-        BeamSpec(grading="sieve")
-    with pytest.raises(ValueError, match="radius_ratio"):
-        BeamSpec(radius_ratio=1.0)

@@ -368,7 +368,7 @@ def test_a_killed_scratch_resumes_with_the_uninterrupted_increments_curves_and_g
     steps = np.diff(np.r_[0.0, tau])
     nominal = {0: 1.0 / RESUME_SCENE.indent_steps, 1: min(0.5, 0.25 * RESUME_MESH.size_z / RESUME_SCENE.slide),
                2: 1.0 / RESUME_SCENE.unload_steps}
-    assert full.cutbacks >= 3 and steps[11] < 0.99 * nominal[int(full.curves["phase"][11])]
+    assert full.cutbacks >= 2 and steps[11] < 0.99 * nominal[int(full.curves["phase"][11])]
     for name, values in full.curves.items():
         if name != "wall_time":
             np.testing.assert_array_equal(resumed.curves[name], values, err_msg=name)
@@ -492,3 +492,29 @@ def test_hard_cases_finish_or_stop_with_a_named_cause(hard):
     assert r.groove_unloaded is not None and r.groove_unloaded.groove_area > 0
     assert abs(r.budget.residual) <= 1e-9 * r.budget.groove
     assert np.all(np.isfinite(r.curves["normal_force"]))
+
+
+def test_the_faster_increment_control_changes_no_groove_beyond_its_tolerances(monkeypatch):
+    """Issue 39's increment control (indentation in 5 increments instead of 20, a slide that starts at a quarter
+    of its increment, Abaqus' correction criterion 1e-2 instead of 1e-3) against the control before it, on a
+    small plastic scene in the scene's physics (finite strain, F-bar): the tolerances are the increment
+    path's own spread (two runs of one scene differ by ~1 % in F_N where a cutback falls differently), 2 % in the
+    forces and the groove areas, 0.02 in f_ab; both volume budgets close at round-off. Measured: 160 against 269
+    Newton iterations; F_N, F_T, A_g 0.1–0.6 % apart, A_s 2 %, f_ab 0.005."""
+    import abrakit.scratch.scene as scene_module
+
+    scene = ScratchScene(depth=0.0008, slide=0.016, mesh=TINY_MESH, size=TINY_BLOCK, unload_steps=2)
+    new = run_scratch(scene, vtu_every=0, linear_solver="lu")
+    monkeypatch.setattr(scene_module, "SLIDE_RAMP", 1.0)
+    before = NewtonOptions(residual_tol=1e-4, increment_tol=1e-3, max_iterations=20, divergence_check_after=10)
+    old = run_scratch(scene.with_(indent_steps=20), vtu_every=0, linear_solver="lu", newton=before)
+    assert new.newton_iterations < old.newton_iterations
+    assert new.mean_normal_force == pytest.approx(old.mean_normal_force, rel=0.02)
+    assert new.mean_tangential_force == pytest.approx(old.mean_tangential_force, rel=0.02)
+    for g_new, g_old in ((new.groove_loaded, old.groove_loaded), (new.groove_unloaded, old.groove_unloaded)):
+        assert g_new.groove_area == pytest.approx(g_old.groove_area, rel=0.02)
+        assert g_new.shoulder_area == pytest.approx(g_old.shoulder_area, rel=0.02, abs=0.02 * g_old.groove_area)
+        assert g_new.degree_of_wear == pytest.approx(g_old.degree_of_wear, abs=0.02)
+    for r in (new, old):
+        assert abs(r.budget.residual) <= 1e-9 * r.budget.groove
+    assert new.budget.groove == pytest.approx(old.budget.groove, rel=0.02)
