@@ -15,6 +15,7 @@ from abrakit.fatigue import (
     fatigue_displacements,
     flow_direction,
     geometric_factor,
+    jump_reduction_percent,
     monotonic_test,
     paris_increment,
     plastic_return,
@@ -210,11 +211,34 @@ def test_papers_cycle_jump_counts_are_ratios_of_a_zero_to_peak_run():
     60 kPa peak (311 cycles, as Fig. 11 implies) and N_jump rounded, the full-to-simulated ratio is 311/39 = 797.4 %
     to the digit and 311/79 = 393.7 % (the paper's 388.8 % is 311/80: one simulated cycle apart)."""
     full = cyclic_test(P, "tension", stress_min=0.0, to_failure=False)
-    ratio = {jump: 100 * full.simulated_cycles / cyclic_test(P, "tension", stress_min=0.0, to_failure=False,
-                                                             jump=jump).simulated_cycles for jump in (0.005, 0.01)}
+    ratio = {jump: jump_reduction_percent(P, jump) for jump in (0.005, 0.01)}
     assert full.simulated_cycles == 311
     assert round(ratio[0.01], 1) == 797.4
     assert round(100 * 311 / 80, 1) == 388.8 and round(ratio[0.005], 1) == 393.7
+
+
+@pytest.mark.parametrize("jump", [None, 0.005, 0.01, 0.05])
+def test_a_jump_never_skips_the_cycle_that_fails_the_bond_and_the_peak_stays_on_the_surface(jump):
+    """Issue 38's hard case: pure shear 0 -> 60 kPa fails the bond in cycle 311 (its damage passes 1 - 60/c = 0.4).
+    A jump of 0.01 from D = 0.3992 used to land at 314 cycles and D = 0.4086, and the peak was recorded at 60 kPa
+    on a surface of 59.85 kPa. Every jump now ends before the failing cycle, which is simulated: the last cycle and
+    its damage are the cycle-by-cycle run's, and no recorded stress lies outside the damaged yield surface."""
+    full = cyclic_test(P, "shear", stress_min=0.0, to_failure=False)
+    run = cyclic_test(P, "shear", stress_min=0.0, to_failure=False, jump=jump)
+    assert full.cycles[-1] == 311 and full.cycle_damage[-2] < run.failure_damage(60e3) <= full.cycle_damage[-1]
+    assert run.cycles[-1] == 311
+    assert run.cycle_damage[-1] == pytest.approx(full.cycle_damage[-1], rel=1e-12)
+    assert run.stress[-2] == pytest.approx(run.strength, rel=1e-12) and run.stress[-2] < 60e3
+    assert P.cohesion * (1.0 - run.failure_damage(60e3)) == pytest.approx(60e3, rel=1e-12)
+    assert criterion(0.0, run.stress[-2], run.damage, P) == pytest.approx(0.0, abs=1e-6 * P.cohesion**2)
+
+
+def test_a_limited_jump_stops_before_the_cycle_that_passes_the_limit():
+    n, increment = cycle_jump([0.1], [0.01], 0.1, exponent=0.0)                   # m = 0: 0.01 per cycle
+    assert n == 10 and increment[0] == pytest.approx(0.1)
+    n, increment = cycle_jump([0.1], [0.01], 0.1, exponent=0.0, limit=0.135)
+    assert n == 3 and increment[0] == pytest.approx(0.03)                         # the 4th cycle reaches 0.14
+    assert cycle_jump([0.1], [0.05], 0.1, exponent=0.0, limit=0.12)[0] == 1       # the failing cycle itself
 
 
 def test_cycle_jump_takes_the_largest_increment_and_at_least_one_cycle():

@@ -27,10 +27,11 @@ from abrakit.fatigue.paris import (
     stress_intensity_range,
     tensile_part,
 )
-from abrakit.fatigue.single_bond import BondTest, cyclic_test, monotonic_test, softening_energy
+from abrakit.fatigue.single_bond import BondTest, cyclic_test, jump_reduction_percent, monotonic_test, softening_energy
 
 __all__ = ["BondParameters", "BondTest", "bond_stresses", "criterion", "cycle_jump", "cycle_update", "cyclic_test",
-           "damage_after", "demo", "fatigue_displacements", "flow_direction", "geometric_factor", "monotonic_test",
+           "damage_after", "demo", "fatigue_displacements", "flow_direction", "geometric_factor",
+           "jump_reduction_percent", "monotonic_test",
            "paris_increment", "plastic_return", "softening_energy", "stress_intensity_range", "tensile_part"]
 
 

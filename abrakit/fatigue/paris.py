@@ -78,7 +78,7 @@ def fatigue_displacements(damage: ArrayLike, increment: ArrayLike, sigma_n: Arra
 
 @number_arguments
 def cycle_jump(damage: ArrayLike, increment: ArrayLike, jump: float, *, max_cycles: float | None = None,
-               exponent: float | None = None, other_rate: float = 0.0):
+               exponent: float | None = None, other_rate: float = 0.0, limit: ArrayLike | None = None):
     """Cycle jump (Eqs. 40, 41): ``(n_jump, total_increment)`` for bonds whose first-cycle increments ΔD_f¹ are
     ``increment`` at damage ``damage``.
 
@@ -88,6 +88,10 @@ def cycle_jump(damage: ArrayLike, increment: ArrayLike, jump: float, *, max_cycl
     then bounds the damage any bond gains from either. Every bond's damage is advanced by Eq. (41),
     ΔD_f^j = [Y(D_j) √D_j / (Y(D_1) √D_1)]ᵐ ΔD_f¹ for j = 1 … N_jump, with D_j = D_1 + Σ_{i<j} ΔD_f^i, a bond at
     D → 1 being capped there. ``exponent`` is Paris' m.
+
+    ``limit`` (per bond, or one value): the failure damage, where the bond's peak stress reaches its damaged yield
+    surface. The jump then ends before the cycle in which a bond would pass it: that cycle is left to be simulated
+    (its first cycle, N_jump = 1, always is), so a jump never skips the cycle that fails a bond.
     """
     jump = check_positive("jump", jump)
     if exponent is None:
@@ -102,16 +106,20 @@ def cycle_jump(damage: ArrayLike, increment: ArrayLike, jump: float, *, max_cycl
         n_jump = max(1, min(n_jump, int(max_cycles)))
     growing = increment > 0.0
     reference = np.where(growing, geometric_factor(damage) * np.sqrt(damage), 1.0)
+    limit = None if limit is None else np.broadcast_to(np.asarray(limit, float), damage.shape)
     d = damage.copy()
-    for _ in range(n_jump):
+    for j in range(n_jump):
         factor = geometric_factor(np.minimum(d, 1.0 - 1e-12)) * np.sqrt(d) / reference
-        d = np.minimum(d + np.where(growing, factor**exponent * increment, 0.0), 1.0)
+        after = np.minimum(d + np.where(growing, factor**exponent * increment, 0.0), 1.0)
+        if j > 0 and limit is not None and np.any(growing & (after >= limit)):
+            return j, d - damage                                  # the failing cycle is simulated, not jumped
+        d = after
     return n_jump, d - damage
 
 
 @number_arguments
 def cycle_update(damage: ArrayLike, peak, low, p: BondParameters, *, width=None, eligible=True,
-                 jump: float | None = None, max_cycles: float | None = None, ratchet=None):
+                 jump: float | None = None, max_cycles: float | None = None, ratchet=None, limit=None):
     """The fatigue update of one load cycle at the onset of its unloading (Sec. 3.2, Fig. 5), for bonds whose cycle
     ran between the stresses ``low`` = (σ_n, σ_s) and ``peak`` = (σ_n, σ_s).
 
@@ -124,6 +132,8 @@ def cycle_update(damage: ArrayLike, peak, low, p: BondParameters, *, width=None,
     With a jump of N cycles they are repeated in the N − 1 skipped cycles: those bonds gain the damage of Eq. (22)
     for (N − 1) × ``ratchet`` on top of their fatigue damage, and N_jump counts that damage rate (decision
     "ratcheting in the cycle jump"). Without ``ratchet`` (the paper) a yielding bond stands still during a jump.
+
+    ``limit``: the bonds' failure damage, passed to :func:`cycle_jump` (the jump stops before a bond fails).
 
     Returns ``(cycles, increment, du_n, du_s, skipped)``: the cycles represented, the damage increments, the
     fatigue displacements (zero for bonds that are not fatigued) and the plastic displacements (2, …) of the
@@ -143,7 +153,7 @@ def cycle_update(damage: ArrayLike, peak, low, p: BondParameters, *, width=None,
     cycles = 1
     if jump is not None and (np.any(fatigued) or ratchet_rate > 0.0):
         cycles, increment = cycle_jump(damage, increment, jump, max_cycles=max_cycles, exponent=p.paris_exponent,
-                                       other_rate=ratchet_rate)
+                                       other_rate=ratchet_rate, limit=limit)
         increment = increment.reshape(np.shape(damage))
     du_n, du_s = fatigue_displacements(damage, increment, peak_n, peak_s, p)
     skipped = np.zeros((2,) + damage.shape)

@@ -23,7 +23,7 @@ from abrakit.fatigue.bond_law import BondParameters, criterion, plastic_return
 from abrakit.fatigue.paris import cycle_update
 from abrakit.validation import check_number_fields, check_option, check_positive, check_range, number_arguments
 
-__all__ = ["BondTest", "cyclic_test", "monotonic_test", "softening_energy"]
+__all__ = ["BondTest", "cyclic_test", "jump_reduction_percent", "monotonic_test", "softening_energy"]
 
 MODES = ("tension", "shear")
 
@@ -64,6 +64,18 @@ class BondTest:
         return self.p.kn if self.mode == "tension" else self.p.ks
 
     @property
+    def strength(self) -> float:
+        """The damaged yield surface on the loaded axis, Eq. (18) with the other stress zero: σ_t(1 − D) in
+        tension, c(1 − D) in shear [Pa]."""
+        intact = 1.0 - self.damage
+        return (self.p.tensile_strength if self.mode == "tension" else self.p.cohesion) * intact
+
+    def failure_damage(self, stress: float) -> float:
+        """The damage at which a peak ``stress`` on the loaded axis reaches the yield surface: 1 − σ/σ_t in tension,
+        1 − σ/c in shear."""
+        return 1.0 - stress / (self.p.tensile_strength if self.mode == "tension" else self.p.cohesion)
+
+    @property
     def simulated_cycles(self) -> int:
         """Cycles actually simulated (each one stands for a whole jump when the cycle jump is on)."""
         return len(self.cycles)
@@ -100,18 +112,24 @@ class BondTest:
         return stress
 
     def cycle(self, stress_min: float, stress_max: float, jump: float | None = None, max_cycles=None) -> bool:
-        """One load cycle (or one cycle jump); returns False, doing nothing, if its peak reaches the yield surface."""
+        """One load cycle (or one cycle jump); returns False, doing nothing, if its peak reaches the yield surface.
+
+        A jump ends before the cycle in which the damage would reach the failure damage of the peak (the cycle that
+        fails the bond is simulated, not jumped over). The stress recorded at the peak after the damage update is
+        held on the damaged yield surface if the update took the surface below the peak (the bond fails in that
+        cycle)."""
         peak = (stress_max, 0.0) if self.mode == "tension" else (0.0, stress_max)
         if criterion(*peak, self.damage, self.p) >= 0.0:
             return False
         self._set_stress(stress_min)
         self._set_stress(stress_max)
         low = (stress_min, 0.0) if self.mode == "tension" else (0.0, stress_min)
-        n, increment, dn, ds, _ = cycle_update(self.damage, peak, low, self.p, jump=jump, max_cycles=max_cycles)
+        n, increment, dn, ds, _ = cycle_update(self.damage, peak, low, self.p, jump=jump, max_cycles=max_cycles,
+                                               limit=self.failure_damage(stress_max))
         if increment > 0.0:                                 # at the onset of unloading (Sec. 3.2)
             self.uf += (float(dn), float(ds))
             self.damage += float(increment)
-            self._set_stress(stress_max)
+            self._set_stress(min(stress_max, self.strength))
         self._set_stress(stress_min)
         self.cycles.append((self.cycles[-1] if self.cycles else 0) + n)
         self.cycle_damage.append(self.damage)
@@ -167,3 +185,15 @@ def softening_energy(p: BondParameters, mode: str) -> float:
     if mode == "tension":
         return intact * p.tensile_strength * (p.un + p.tensile_strength / (2.0 * p.kn))
     return intact * p.cohesion * (1.0 / (1.0 / p.us + p.tan_psi / p.un) + p.cohesion / (2.0 * p.ks))
+
+
+@number_arguments
+def jump_reduction_percent(p: BondParameters, jump: float, *, mode: str = "tension",
+                           stress_max: float = 60e3) -> float:
+    """The paper's measure of the cycle jump's saving (Sec. 4.1: the jumps 0.005 and 0.01 "reduce the simulated
+    cycles by 388.8 % and 797.4 %"): 100 × simulated cycles without the jump / simulated cycles with it, on the
+    0 → ``stress_max`` cycle up to D = 0.4 (decisions "cycle counts of Fig. 11" and "cycle jump count")."""
+    check_positive("jump", jump)
+    runs = [cyclic_test(p, mode, stress_min=0.0, stress_max=stress_max, to_failure=False, jump=j)
+            for j in (None, jump)]
+    return 100.0 * runs[0].simulated_cycles / runs[1].simulated_cycles
