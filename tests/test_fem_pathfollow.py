@@ -221,3 +221,14 @@ def test_an_interrupted_path_following_run_resumes_with_the_uninterrupted_curve(
         assert 1.0 in set(whole.curves["constraint"][:stop_after])        # the kill came after the switch
     again = run(tmp_path / "cut", resume=True)
     assert np.array_equal(again.load_factors, whole.load_factors)
+
+
+def test_arc_length_at_a_kinked_peak_stops_naming_the_methods_that_pass_it():
+    """Issue 38's hard case: on the snap-back bar of 37 elements the weak element's loading flag alternates at the
+    peak, the arc-length equation has no real root however short the arc, and the run stops there; the message
+    names dissipation and opening control, and dissipation control follows the same bar to fracture."""
+    bar = SofteningBar(37)
+    with pytest.raises(StepFailed, match="method='dissipation'.*method='opening'"):
+        bar.solver(method="arc-length").run(progress=False, stop_force=0.01)
+    result = bar.solver(method="dissipation").run(progress=False, stop_force=0.01)
+    assert result.curves["F_right"][-1] <= 0.01 * bar.f_t * 1.0001

@@ -40,7 +40,10 @@ as in :class:`~abrakit.fem.Solver`.
 Limits, measured (``tests/test_damage_model_two.py``): G is the dissipated energy only where unloading is secant.
 With plasticity, elastic unloading from a plastic state also has G > 0, so dissipation control may follow an
 unloading branch instead of damaging (Model II on the double notch does); arc length or opening control follow such
-materials (Model II under arc length reaches the displacement-controlled peak to 0.2 %). The staggered damage update
+materials (Model II under arc length reaches the displacement-controlled peak to 0.2 %). Arc length cannot pass a
+kinked peak (the snap-back bar of 37 elements: the weak element's loading flag alternates, the constraint has no
+real root however short the arc); it stops there and its message names dissipation and opening control, which pass
+it. The staggered damage update
 of Model I (damage after the displacement iterations) is not part of the Newton system; its path follower
 (:class:`abrakit.damage.model_one_path.ModelIPathFollowingSolver`) repeats Newton solve and damage update within
 each step until they agree.
@@ -284,6 +287,17 @@ class PathControl:
         check_range("max_steps", self.max_steps, 1, None)
 
 
+def _better_method(constraint, reason: str) -> str:
+    """The advice a failed arc-length run ends with. Where the arc-length equation has no real root however short
+    the arc (a non-smooth limit point: a softening point's loading flag alternates between iterations, the path has
+    a kink, and cutting the arc cannot help; the snap-back bar ``SofteningBar(37)`` stops there), the constraints
+    that pass such peaks are named."""
+    if isinstance(constraint, ArcLength) and "no real root" in reason:
+        return ("; arc length cannot pass this peak (a kink of the path: cutting the arc does not help): follow "
+                "it with method='dissipation' or with method='opening' and opening=(dofs, dofs) across the band")
+    return ""
+
+
 class PathFollowingSolver(Solver):
     """:class:`~abrakit.fem.Solver` with the load factor as an unknown (see the module docstring).
 
@@ -498,8 +512,9 @@ class PathFollowingSolver(Solver):
                         result = recorder.result(cutbacks)
                         raise StepFailed(
                             f"path following from λ={lam:.6g} failed under {constraint.name} control: "
-                            f"{failure.reason}", load_factor=lam, u=u, state=state, reason=failure.reason,
-                            result=result, checkpoint=checkpoint(step - 1)) from failure
+                            f"{failure.reason}{_better_method(constraint, failure.reason)}", load_factor=lam, u=u,
+                            state=state, reason=failure.reason, result=result,
+                            checkpoint=checkpoint(step - 1)) from failure
                     continue
                 v_new, P_new = self.load_pair(u_new, lam_new, f_new)
                 released = 0.5 * (P * (v_new - v) - v * (P_new - P))
