@@ -32,7 +32,7 @@ from scipy.integrate import solve_ivp
 from scipy.optimize import minimize_scalar
 from scipy.special import wrightomega
 
-from .validation import check_number_fields, check_option, check_positive, number_arguments
+from .validation import check_finite, check_number_fields, check_option, check_positive, check_range, number_arguments
 
 __all__ = [
     "SCHEMES",
@@ -592,7 +592,11 @@ def reference_solution(model, strain_fn, time, dissipation: Dissipation, state0=
     Needs r2 > 0; ``strain_fn(t)`` returns the (scalar) strain.
     """
     dissipation.require_rate_dependence()
-    time = np.asarray(time, dtype=float)
+    time = check_finite("time", time)                    # a NaN time or tolerance made the integrator hang
+    if np.ndim(time) != 1 or len(time) < 2 or np.any(np.diff(time) <= 0):
+        raise ValueError("time must be an increasing 1D array of at least two instants")
+    check_range("rtol", rtol, 0.0, 1.0, low_open=True, high_open=True)
+    check_positive("atol", atol)
     state = model.initial_state() if state0 is None else state0
     fields = type(state)
 

@@ -258,6 +258,14 @@ class G65Test:
     normal_force: float = 130.0
     grain_sizes: tuple[float, float] = (150e-6, 450e-6)
 
+    def __post_init__(self):
+        check_number_fields(self)
+        for name in ("wheel_diameter", "rpm", "specimen_length", "specimen_width", "normal_force"):
+            check_positive(name, getattr(self, name))
+        sizes = check_positive("grain_sizes", self.grain_sizes)
+        if np.shape(sizes) != (2,) or sizes[0] > sizes[1]:
+            raise ValueError(f"grain_sizes must be (smallest, largest) in m, got {self.grain_sizes!r}")
+
     @property
     def wheel_speed(self) -> float:
         """Surface speed of the rubber wheel, m/s, taken as v_t."""

@@ -64,7 +64,7 @@ from ..fem.kinematics import element_mean
 from ..fem.solver import NewtonFailure, NewtonResult, Solver, StepContext, StepFailed
 from ..io import CurveWriter, write_json
 from ..materials.model_one import damage_function_update
-from ..validation import check_option, check_range, number_arguments
+from ..validation import check_finite, check_option, check_positive, check_range, number_arguments
 from .laplacian import ElementLaplacian, element_laplacian
 
 SNAP_BACK = ("pass", "stop")
@@ -143,7 +143,19 @@ def coupled_damage_function(f_old, psi0_bar, laplacian: ElementLaplacian, beta: 
     import scipy.sparse as sp
     import scipy.sparse.linalg as spla
 
-    f_old = np.asarray(f_old, dtype=float)
+    check_positive("r_d", r_d)
+    check_positive("beta", beta, allow_zero=True)
+    check_range("f_min", f_min, 0.0, 1.0, low_open=True)
+    check_positive("tol", tol)
+    check_range("max_iterations", max_iterations, 1, None)
+    if not isinstance(laplacian, ElementLaplacian):
+        raise TypeError(f"laplacian must be an ElementLaplacian, got {type(laplacian).__name__}")
+    f_old = check_range("f_old", f_old, 0.0, 1.0, low_open=True)
+    f_old = np.atleast_1d(f_old)
+    psi0_bar = check_finite("psi0_bar", psi0_bar)
+    if np.shape(psi0_bar) not in ((), f_old.shape) or f_old.shape != (laplacian.matrix.shape[0],):
+        raise ValueError(f"f_old {f_old.shape} and psi0_bar {np.shape(psi0_bar)} must have one value per element "
+                         f"of the Laplacian ({laplacian.matrix.shape[0]})")
     L = laplacian.matrix
     n = f_old.size
     pattern, row, diagonal, _ = _jacobian_pattern(laplacian)

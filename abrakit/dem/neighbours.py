@@ -14,7 +14,7 @@ from numpy.typing import ArrayLike
 from scipy.spatial import cKDTree
 
 from abrakit.dem.state import ContactSet, pair_keys
-from abrakit.validation import number_arguments
+from abrakit.validation import check_finite, check_positive, number_arguments
 
 __all__ = ["VerletList", "candidate_pairs", "largest_distance", "transfer_history", "wall_candidates"]
 
@@ -31,6 +31,8 @@ def candidate_pairs(x: ArrayLike, radius: ArrayLike, skin: float, clump=None, pe
     """
     if len(x) < 2:
         return np.zeros(0, np.int64), np.zeros(0, np.int64)
+    check_finite("x", x)                     # an inf position would reach the tree's own "data must be finite"
+    check_positive("skin", skin, allow_zero=True)
     if compiled and periodic is None:
         from abrakit.dem.kernels import cell_list_pairs
 

@@ -299,6 +299,13 @@ def settling(n: int = 300, *, seed: int = 0, radius: float = 0.005, spread: floa
     """
     rng = np.random.default_rng(seed)
     n = int(check_positive("n", n))
+    check_positive("radius", radius)
+    check_range("spread", spread, 0.0, 1.0, high_open=True)
+    check_positive("density", density)
+    check_positive("kn", kn)
+    max_steps = int(check_range("max_steps", max_steps, 1, None))       # the settling loop's bound
+    if steps is not None:
+        steps = int(check_range("steps", steps, 0, None))
     side = 2 * radius * max(np.sqrt(n / 6.0), 3.0) if box is None else box
     per_layer = max(int(side / (2.1 * radius * (1 + spread))) ** 2, 1)
     m = int(np.sqrt(per_layer))

@@ -142,7 +142,7 @@ class Servo:
         if not callable(self.area):
             check_positive("area", self.area)
         check_range("relaxation", self.relaxation, 0.0, 1.0, low_open=True)
-        if np.isfinite(self.max_speed):
+        if self.max_speed != np.inf:                              # +inf: no limit; any other value must be > 0
             check_positive("max_speed", self.max_speed)
 
     def current_area(self, walls) -> float:

@@ -288,6 +288,8 @@ def pressed_bed(diameter, *, box, fine_diameter=None, theta_coarse=1.0, layers=4
     mu = check_positive("friction", friction, allow_zero=True)
     shake = check_positive("shake", shake, allow_zero=True)
     shake_cycles = int(check_range("shake_cycles", shake_cycles, 0, None))
+    check_range("balance", balance, 0.0, 1.0, low_open=True, high_open=True)  # NaN or <= 0: never balanced
+    max_steps = int(check_range("max_steps", max_steps, 1, None))
     kernel = check_option("kernel", kernel, ("auto", "numpy", "numba"))
     kernel = ("numba" if HAVE_NUMBA else "numpy") if kernel == "auto" else kernel
     rng = np.random.default_rng(seed)

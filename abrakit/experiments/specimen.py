@@ -54,7 +54,14 @@ from abrakit.dem import (
 )
 from abrakit.dem.measure import contact_counts, relax, unbalanced_force_ratio
 from abrakit.io import dumps, loads, write_atomically
-from abrakit.validation import check_number_fields, check_option, check_positive, check_range, number_arguments
+from abrakit.validation import (
+    check_finite,
+    check_number_fields,
+    check_option,
+    check_positive,
+    check_range,
+    number_arguments,
+)
 
 __all__ = [
     "GENESIS_VERSION",
@@ -291,6 +298,14 @@ class Specimen:
     clump: np.ndarray | None = None      # clump id of each sphere, −1 for free spheres
 
     def __post_init__(self):
+        self.radius = check_positive("radius", np.atleast_1d(np.asarray(self.radius, dtype=float)))
+        self.x = check_finite("x", self.x)
+        if np.shape(self.x) != (len(self.radius), 3):
+            raise ValueError(f"x must have shape ({len(self.radius)}, 3), one centre per radius, got "
+                             f"{np.shape(self.x)}")
+        self.lengths = check_positive("lengths", self.lengths)
+        if np.shape(self.lengths) != (3,):
+            raise ValueError(f"lengths must be the vessel's three edge lengths, got shape {np.shape(self.lengths)}")
         if self.clump is None:
             self.clump = np.full(len(self.radius), -1, dtype=np.int64)
 

@@ -381,8 +381,8 @@ class AMGSolver:
     def __init__(self, near_null_space: np.ndarray | None = None, rtol: float = 1e-10, maxiter: int = 1000,
                  krylov: str = "auto"):
         self.near_null_space = near_null_space
-        self.rtol = rtol
-        self.maxiter = maxiter
+        self.rtol = check_range("rtol", rtol, 0.0, 1.0, low_open=True, high_open=True)
+        self.maxiter = int(check_range("maxiter", maxiter, 1, None))
         self.krylov = check_option("krylov", krylov, ("auto", "cg", "gmres"))
         self._method = None
         self._ml = None

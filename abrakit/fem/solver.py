@@ -317,6 +317,9 @@ class Solver:
         self.material = material
         self.constraints = Constraints(dirichlet, self.kin.ndof)
         self.constraints.condense_pattern(self.assembler.indptr, self.assembler.indices)
+        for name, hook in (("external_force", external_force), ("loading", loading)):
+            if hook is not None and not callable(hook):
+                raise TypeError(f"{name} must be a function of the load factor (or context) or None, got {hook!r}")
         self.external_force = external_force
         self.loading = loading
         self.extra_terms = list(extra_terms)

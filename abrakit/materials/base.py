@@ -23,7 +23,7 @@ from typing import Protocol, runtime_checkable
 import numpy as np
 
 from .. import tensors as T
-from ..validation import check_finite, check_shape
+from ..validation import check_finite, check_positive, check_shape
 
 #: Mandel vector of the second-order identity I.
 IDENTITY = np.array([1.0, 1.0, 1.0, 0.0, 0.0, 0.0])
@@ -127,6 +127,7 @@ def finite_difference_tangent(material, state, eps, h: float = 1e-8, dt: float =
     Used to check every model's returned tangent and, in the driver, as a fallback Jacobian.
     """
     eps = check_strain(eps)
+    check_positive("h", h)
     columns = []
     for k in range(6):
         step = np.zeros(6)

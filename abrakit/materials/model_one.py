@@ -58,6 +58,9 @@ def damage_function_update(f_old: ArrayLike, psi0_bar: ArrayLike, laplacian: Arr
     its root in ``(0, f^m)`` is ``2 r_d / (b + sqrt(b^2 + 4 a r_d))`` in every case (``Phi_d(0) = -r_d < 0``).
     Elsewhere ``f = f^m`` (no healing); the result is kept in ``[f_min, f^m]``.
     """
+    check_positive("r_d", r_d)
+    check_positive("beta", beta, allow_zero=True)
+    check_range("f_min", f_min, 0.0, 1.0, low_open=True)
     f_old, psi0_bar, laplacian, laplacian_derivative = np.broadcast_arrays(
         np.asarray(f_old, dtype=float), psi0_bar, laplacian, laplacian_derivative
     )
