@@ -104,9 +104,9 @@ DECISIONS: tuple[Decision, ...] = (
              "the steady rate of the volume budget, (rate of A_g − rate of A_s)/rate of A_g, over the second half "
              "of a 200 µm slide; its uncertainty from the last quarter's rate, nine wake sections and the mesh "
              "levels", "the sections fall along the wake: a 100 µm slide is still in the indentation's transient "
-             "(rates 0.14–0.20), a 200 µm slide gives 0.056–0.057 on two meshes, 0.04 over its last quarter and "
-             "0.07 (range 0.07) from the sections", ("benchmarks/bench_scratch_speed.py",), "scratch_to_wear",
-             "choice"),
+             "(rates 0.19–0.20), a 200 µm slide gives 0.056 on three mesh levels (spread 6 × 10⁻⁴), 0.04 over its "
+             "last quarter and 0.07 (range 0.07) from the sections", ("benchmarks/bench_scratch_speed.py",),
+             "scratch_to_wear", "choice"),
     Decision("load increments of the scratch", "not stated (an Abaqus/Standard run)",
              "indentation in 5 increments, the slide in h_z/4 increments starting at a quarter of one, Newton's "
              "correction criterion 10⁻² of the increment (Abaqus' default), residual 10⁻⁴ of the largest force",

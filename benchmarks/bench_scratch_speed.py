@@ -154,19 +154,22 @@ def plot(rows: dict, path: Path) -> None:
     import matplotlib.pyplot as plt
 
     fig, ax = plt.subplots(figsize=(6.4, 4.2))
-    for key, marker in (("F_N_error", "o"), ("A_g_error", "s"), ("f_ab_rates_error", "^")):
-        points = [(r["wall_time_s"], r[key], n) for n, r in rows.items() if np.isfinite(r.get(key, np.nan))
-                  and r[key] > 0]
-        if points:
-            t, e, names = zip(*points, strict=True)
-            ax.loglog(t, e, marker=marker, linestyle="-", label=key.removesuffix("_error"))
-            for ti, ei, ni in points:
-                ax.annotate(ni, (ti, ei), textcoords="offset points", xytext=(4, 4), fontsize=8)
+    for long, style in ((False, "-"), (True, "--")):                  # 100 µm slides solid, 200 µm dashed
+        for key, marker, color in (("F_N_error", "o", "C0"), ("A_g_error", "s", "C1"),
+                                   ("f_ab_rates_error", "^", "C2")):
+            points = [(r["wall_time_s"], r[key], n) for n, r in rows.items() if n.endswith("_long") == long
+                      and np.isfinite(r.get(key, np.nan)) and r[key] > 0]
+            if points:
+                t, e, names = zip(*points, strict=True)
+                label = f"{key.removesuffix('_error')}, {'200' if long else '100'} µm slide"
+                ax.loglog(t, e, marker=marker, linestyle=style, color=color, label=label)
+                for ti, ei, ni in points:
+                    ax.annotate(ni, (ti, ei), textcoords="offset points", xytext=(4, 4), fontsize=8)
     ax.set_xlabel("wall time [s]")
     ax.set_ylabel("relative error to the finest level")
     ax.set_title("Scratch, finite strain + F-bar: time against error")
     if ax.get_legend_handles_labels()[0]:
-        ax.legend()
+        ax.legend(fontsize=7)
     save_figure(fig, path)
 
 
