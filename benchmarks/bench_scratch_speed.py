@@ -106,19 +106,19 @@ def wake_sections(scene: ScratchScene, folder: Path) -> np.ndarray:
 
 
 def with_errors(rows: dict[str, dict]) -> str | None:
-    """Relative errors of F_N, A_g and f_ab (rates) against the finest finished level (100 µm slide runs)."""
-    levels = [n for n in LEVELS[::-1] if n in rows and rows[n]["status"] == "finished"]
-    if not levels:
-        return None
-    reference = rows[levels[0]]
+    """Relative errors of F_N, A_g and f_ab (rates) of every level against the finest finished level of the same
+    slide (100 µm, or 200 µm for the ``_long`` runs); returns the reference of the 100 µm runs."""
+    def finest(suffix: str) -> dict | None:
+        names = [level + suffix for level in LEVELS[::-1]]
+        return next((rows[n] for n in names if n in rows and rows[n]["status"] == "finished"), None)
+
+    references = {"": finest(""), "_long": finest("_long")}
     for name, row in rows.items():
-        long = name.endswith("_long")
-        ref = rows.get(f"{levels[0]}_long") if long else reference
+        suffix = "_long" if name.endswith("_long") else ""
+        ref = references[suffix] if name.removesuffix(suffix) in LEVELS else None
         for key in ("F_N", "A_g_um2", "f_ab_rates"):
-            comparable = (name.removesuffix("_long") in LEVELS and ref is not None and ref["status"] == "finished")
-            error = abs(row[key] / ref[key] - 1.0) if comparable else np.nan
-            row[f"{key.removesuffix('_um2')}_error"] = error
-    return levels[0]
+            row[f"{key.removesuffix('_um2')}_error"] = abs(row[key] / ref[key] - 1.0) if ref else np.nan
+    return references[""]["name"] if references[""] else None
 
 
 def main(outdir: Path = RESULTS, quick: bool = False) -> dict:

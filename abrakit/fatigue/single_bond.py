@@ -64,16 +64,20 @@ class BondTest:
         return self.p.kn if self.mode == "tension" else self.p.ks
 
     @property
+    def intact_strength(self) -> float:
+        """The undamaged yield surface on the loaded axis, Eq. (18) with the other stress zero: σ_t in tension, c
+        in shear [Pa]."""
+        return self.p.tensile_strength if self.mode == "tension" else self.p.cohesion
+
+    @property
     def strength(self) -> float:
-        """The damaged yield surface on the loaded axis, Eq. (18) with the other stress zero: σ_t(1 − D) in
-        tension, c(1 − D) in shear [Pa]."""
-        intact = 1.0 - self.damage
-        return (self.p.tensile_strength if self.mode == "tension" else self.p.cohesion) * intact
+        """The damaged yield surface on the loaded axis, (1 − D) times :attr:`intact_strength` [Pa]."""
+        return (1.0 - self.damage) * self.intact_strength
 
     def failure_damage(self, stress: float) -> float:
-        """The damage at which a peak ``stress`` on the loaded axis reaches the yield surface: 1 − σ/σ_t in tension,
-        1 − σ/c in shear."""
-        return 1.0 - stress / (self.p.tensile_strength if self.mode == "tension" else self.p.cohesion)
+        """The damage at which a peak ``stress`` on the loaded axis reaches the yield surface, 1 − σ/σ_t in tension
+        and 1 − σ/c in shear (where :attr:`strength` equals ``stress``)."""
+        return 1.0 - stress / self.intact_strength
 
     @property
     def simulated_cycles(self) -> int:

@@ -202,6 +202,10 @@ class OpeningControl(LinearConstraint):
         return abs(self.residual(p)) <= 1e-10 * abs(self.tau) + 1e-14 * float(np.abs(self.weights) @ np.abs(p.u))
 
 
+NO_REAL_ROOT = "arc length: no real root"
+"""The reason :class:`ArcLength` gives when its constraint has no solution (recognised by :func:`_better_method`)."""
+
+
 @dataclass
 class ArcLength:
     """Crisfield's cylindrical arc length ``|Δu|² = Δl²`` (mm²) over all DOFs; the root of the quadratic that keeps
@@ -230,7 +234,7 @@ class ArcLength:
         a3 = float(base @ base) + p.dlam**2 * uu - self.tau**2
         disc = a2**2 - 4.0 * a1 * a3
         if disc < 0.0 or a1 == 0.0:
-            raise NewtonFailure("arc length: no real root (the step is too long for the curvature of the path)", [])
+            raise NewtonFailure(f"{NO_REAL_ROOT} (the step is too long for the curvature of the path)", [])
         roots = [(-a2 + sign * np.sqrt(disc)) / (2.0 * a1) for sign in (1.0, -1.0)]
         return max(roots, key=lambda d: self._cosine(base + d * du_q, p.dlam + d, p))
 
@@ -292,7 +296,7 @@ def _better_method(constraint, reason: str) -> str:
     the arc (a non-smooth limit point: a softening point's loading flag alternates between iterations, the path has
     a kink, and cutting the arc cannot help; the snap-back bar ``SofteningBar(37)`` stops there), the constraints
     that pass such peaks are named."""
-    if isinstance(constraint, ArcLength) and "no real root" in reason:
+    if isinstance(constraint, ArcLength) and NO_REAL_ROOT in reason:
         return ("; arc length cannot pass this peak (a kink of the path: cutting the arc does not help): follow "
                 "it with method='dissipation' or with method='opening' and opening=(dofs, dofs) across the band")
     return ""
