@@ -7,6 +7,8 @@ import importlib
 import sys
 import time
 
+__all__ = ["main", "run_demos"]
+
 #: Book chapter (its file name in ``book/``, like ``examples/<chapter>.py``) -> the modules whose ``demo()`` returns a
 #: one-paragraph summary of a small scene of that chapter; ``intro`` prints the reproduction verdicts.
 DEMOS = {

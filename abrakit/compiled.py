@@ -13,7 +13,7 @@ except ImportError:  # pragma: no cover - numba is an optional extra
     def njit(*args, **kwargs):
         return (lambda f: f) if not (args and callable(args[0])) else args[0]
 
-__all__ = ["HAVE_NUMBA", "inverse3", "njit", "prange"]
+__all__ = ["HAVE_NUMBA"]
 
 
 @njit(cache=True, inline="always")

@@ -53,6 +53,12 @@ from .validation import (
     number_arguments,
 )
 
+__all__ = ["ContactSolution", "NumericalElasticity", "POISSON_RANGE", "VARIANTS", "affine_contact_displacements",
+           "affine_stiffness", "bond_strengths", "constraint_gradient", "contact_density", "contact_forces",
+           "contact_stiffnesses", "demo", "elastic_constants", "failure_stresses", "hertz_contact_radius",
+           "hertz_normal_stiffness", "hertz_shear_stiffness", "isotropic_part", "measured_contact_density",
+           "minimise_contact_energy", "numerical_elastic_constants", "particle_number_density", "series_stiffness"]
+
 VARIANTS = ("published", "consistent", "affine")
 
 #: alpha in the kinematic constraint grad u^m = alpha / r <u (x) n>, Eq. (5.10); also scales Eq. (5.24).

@@ -20,6 +20,9 @@ from pathlib import Path
 
 import numpy as np
 
+__all__ = ["CurveWriter", "RunRecord", "VtuSeries", "dumps", "from_strict_json", "jsonable", "load_state", "loads",
+           "progress_bar", "read_curve", "read_json", "save_state", "strict_json", "write_atomically", "write_json"]
+
 #: Non-finite floats in result files. JSON has no token for them (Python's ``NaN`` and ``Infinity`` are an extension
 #: other readers refuse), so they are written as these strings, the mapping of Protocol Buffers' canonical JSON,
 #: and :func:`read_json` turns them back into floats.

@@ -14,6 +14,8 @@ from pathlib import Path
 from . import wear
 from .io import read_json
 
+__all__ = ["Claim", "VERDICTS", "demo", "markdown", "status", "stored_result"]
+
 RESULTS = Path(__file__).resolve().parent.parent / "benchmarks" / "results"
 VERDICTS = ("reproduced", "close", "differs", "not computed")
 

@@ -21,6 +21,12 @@ from numpy.typing import ArrayLike
 
 from .validation import check_option, check_poisson, check_positive, number_arguments
 
+__all__ = ["VECTOR_WEIGHTS", "VOIGT_PAIRS", "ddot", "ddot42", "demo", "dev", "fourth_moment_contraction",
+           "from_mandel", "from_mandel4", "from_voigt", "from_voigt4", "identity4_dev", "identity4_sym",
+           "identity4_vol", "isotropic_stiffness", "lame", "mandel_rotation", "negative_part", "norm", "outer",
+           "positive_part", "sphere_average", "sphere_quadrature", "to_mandel", "to_mandel4", "to_voigt",
+           "to_voigt4", "trace"]
+
 #: Index pairs of the Voigt/Mandel positions, order (11, 22, 33, 23, 13, 12), Eq. (2.17).
 VOIGT_PAIRS = ((0, 0), (1, 1), (2, 2), (1, 2), (0, 2), (0, 1))
 
@@ -122,12 +128,14 @@ def dev(A: ArrayLike) -> np.ndarray:
     return A - trace(A)[..., None, None] / 3.0 * I2
 
 
-def ddot(A, B) -> np.ndarray:
+@number_arguments
+def ddot(A: ArrayLike, B: ArrayLike) -> np.ndarray:
     """Double contraction ``A : B = A_ij B_ij`` of two second-order tensors."""
     return np.einsum("...ij,...ij->...", _check_tensor("A", A), _check_tensor("B", B))
 
 
-def norm(A) -> np.ndarray:
+@number_arguments
+def norm(A: ArrayLike) -> np.ndarray:
     """Frobenius norm ``|A| = sqrt(A : A)``."""
     return np.sqrt(ddot(A, A))
 
@@ -138,7 +146,8 @@ def outer(A: ArrayLike, B: ArrayLike) -> np.ndarray:
     return np.einsum("...ij,...kl->...ijkl", _check_tensor("A", A), _check_tensor("B", B))
 
 
-def ddot42(C, A) -> np.ndarray:
+@number_arguments
+def ddot42(C: ArrayLike, A: ArrayLike) -> np.ndarray:
     """``(C : A)_ij = C_ijkl A_kl``."""
     return np.einsum("...ijkl,...kl->...ij", _check_tensor("C", C, 4), _check_tensor("A", A))
 

@@ -15,6 +15,9 @@ from collections.abc import Iterable
 import numpy as np
 from numpy.typing import ArrayLike
 
+__all__ = ["all_finite", "broadcast_shapes", "check_finite", "check_number_fields", "check_option", "check_poisson",
+           "check_positive", "check_range", "check_shape", "number_arguments"]
+
 
 def _describe(low, high, low_open, high_open) -> str:
     left = "(" if low_open else "["

@@ -1,10 +1,13 @@
 """The public API under invalid input (tools/api_fuzz.py): calls the test suite makes, replayed with one argument
 made invalid, and with one number scaled (hypothesis).
 
+The public surface is what each module lists in ``__all__`` (kernels and helpers are left out, most with a leading
+underscore); ``benchmarks/results/api_fuzz.json`` stores the counts of ``python tools/api_fuzz.py fuzz``.
+
 - Valid calls give finite results (except the documented sentinels of ``NON_FINITE_BY_DESIGN``).
-- No invalid input escapes as a foreign exception (``deep``) from inside numpy or scipy.
-- Every invalid input that is not refused by name is one the stored baseline (``benchmarks/results/api_fuzz.json``,
-  ``python tools/api_fuzz.py fuzz``) already lists: the count can only fall.
+- Every invalid input (NaN, a NaN entry, a string or None where a number is meant) is refused with a
+  ``ValueError``/``TypeError`` that names the parameter: no NaN or infinity returned, nothing accepted, no
+  exception from inside numpy or scipy, no call past its time bound.
 - A valid number scaled by 1/2 … 2 gives a finite result or a ``ValueError``/``TypeError`` that names a parameter.
 """
 
@@ -34,7 +37,7 @@ def catalogue():
 
 @pytest.fixture(scope="module")
 def result(catalogue):
-    return fuzz.fuzz(catalogue, slow=FAST, limit=1.0, skip=set(BASELINE["slow"]))
+    return fuzz.fuzz(catalogue, slow=FAST, limit=2.0, skip=set(BASELINE["slow"]))
 
 
 def test_the_catalogue_covers_the_public_api(catalogue):
@@ -46,18 +49,16 @@ def test_valid_calls_give_finite_results(result):
     assert result["valid_non_finite"] == []
 
 
-def test_no_invalid_input_escapes_from_inside_numpy_or_scipy(result):
-    deep = [c for c in result["cases"] if c["outcome"] == "deep"]
-    assert deep == [], deep[:5]
+def test_every_invalid_input_is_refused_by_name(result):
+    refused = result["counts"]["named"]
+    others = [(c["callable"], c["parameter"], c["value"], c["outcome"]) for c in result["cases"]
+              if c["outcome"] != "named"]
+    assert refused >= 3000 and others == [], f"{len(others)} invalid inputs not refused by name, e.g. {others[:5]}"
 
 
-def test_invalid_input_not_refused_by_name_is_only_what_the_baseline_lists(result):
-    def key(case):
-        return case["callable"], case["parameter"], case["value"], case["outcome"]
-
-    known = {key(c) for c in BASELINE["cases"] if c["outcome"] != "named"}
-    new = sorted({key(c) for c in result["cases"] if c["outcome"] not in ("named", "timeout")} - known)
-    assert new == [], f"{len(new)} new invalid inputs not refused by name, e.g. {new[:5]}"
+def test_every_module_declares_its_public_surface():
+    assert fuzz.public_callables() and all(hasattr(m, "__all__") for m in fuzz._modules())
+    assert len(fuzz.public_callables()) < len(fuzz.unprefixed_callables())
 
 
 def scalable(catalogue):

@@ -7,7 +7,7 @@ import skfem
 
 from abrakit.damage.localisation import bar_mesh, cross_section, run_bar
 from abrakit.damage.model_one_fe import element_mean, gradient_energy
-from abrakit.damage.model_one_monolithic import coupling_blocks, point_sensitivities
+from abrakit.damage.model_one_monolithic import _point_sensitivities, coupling_blocks
 from abrakit.damage.model_one_path import DamageControl, ModelIPathFollowingSolver, ModelIPathResult
 from abrakit.fem import Assembler, Dirichlet, Kinematics, vector_basis
 from abrakit.materials import TABLE_7_1, LinearElastic, ModelIDamage
@@ -201,7 +201,7 @@ def test_coupling_blocks_are_the_derivatives_of_the_residual_and_the_driving_ene
         return asm.internal_force(response.stress), element_mean(response.state["psi0"], kin.dx)
 
     assert np.any(model.update(state, asm.strain(u), damage=False).state["alpha_p"] > 0)      # plastic flow
-    K_uf, G, dpsibar_df = coupling_blocks(asm, point_sensitivities(model, state, asm.strain(u), f, kin.components))
+    K_uf, G, dpsibar_df = coupling_blocks(asm, _point_sensitivities(model, state, asm.strain(u), f, kin.components))
     for e in range(kin.nel):
         h = 1e-6 * f[e]
         (f_plus, psi_plus), (f_minus, psi_minus) = (evaluate(u, f + s * h * np.eye(kin.nel)[e]) for s in (1, -1))

@@ -6,7 +6,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from abrakit.dem import HertzMindlin, Linear, Particles, force_displacement, series_stiffness
-from abrakit.dem.contact_laws import cross, dot, hertz_normal_coefficient, hertz_shear_coefficient, turn_into_plane
+from abrakit.dem.contact_laws import _cross, _dot, _turn_into_plane, hertz_normal_coefficient, hertz_shear_coefficient
 
 
 def test_series_stiffness_eq_4_11():
@@ -88,7 +88,7 @@ def test_coulomb_limit_never_exceeded(values, overlap):
     r = force_displacement(law, prm, np.array([overlap]), n, np.array(values[3:6]).reshape(3, 1) * 10,
                            np.array(values[6:]).reshape(3, 1) * 100, 1e-4)
     assert np.linalg.norm(r.ft) <= prm["mu"][0] * r.fn[0] * (1 + 1e-12) + 1e-12
-    assert abs(dot(r.ft, n)[0]) <= 1e-9 * (1 + np.linalg.norm(r.ft))            # shear force in the plane
+    assert abs(_dot(r.ft, n)[0]) <= 1e-9 * (1 + np.linalg.norm(r.ft))            # shear force in the plane
 
 
 @settings(max_examples=50, deadline=None)
@@ -99,9 +99,9 @@ def test_turn_into_plane_keeps_length_and_is_in_plane(values):
     if np.linalg.norm(n) < 1e-3 or np.linalg.norm(np.cross(vec[:, 0], n[:, 0])) < 1e-6:
         return
     n /= np.linalg.norm(n)
-    out = turn_into_plane(vec, n)
+    out = _turn_into_plane(vec, n)
     assert np.linalg.norm(out) == pytest.approx(np.linalg.norm(vec), rel=1e-9)
-    assert abs(dot(out, n)[0]) <= 1e-9 * np.linalg.norm(vec)
+    assert abs(_dot(out, n)[0]) <= 1e-9 * np.linalg.norm(vec)
 
 
 def test_a_spring_nearly_along_the_new_normal_is_turned_into_the_plane_to_round_off():
@@ -110,15 +110,15 @@ def test_a_spring_nearly_along_the_new_normal_is_turned_into_the_plane_to_round_
     vec = np.array([[0.0], [4.0], [0.0]])
     n = np.array([[2.93e-7], [5.0], [0.0]])
     n /= np.linalg.norm(n)
-    out = turn_into_plane(vec, n)
+    out = _turn_into_plane(vec, n)
     assert np.linalg.norm(out) == pytest.approx(4.0, rel=1e-9)
-    assert abs(dot(out, n)[0]) <= 1e-12 * 4.0
+    assert abs(_dot(out, n)[0]) <= 1e-12 * 4.0
 
 
 def test_cross_matches_numpy():
     rng = np.random.default_rng(0)
     a, b = rng.normal(size=(3, 7)), rng.normal(size=(3, 7))
-    assert np.allclose(cross(a, b), np.cross(a.T, b.T).T)
+    assert np.allclose(_cross(a, b), np.cross(a.T, b.T).T)
 
 
 def test_dashpot_is_fraction_of_critical_damping_eq_4_10():
@@ -163,7 +163,7 @@ def test_a_spring_along_the_new_normal_is_dropped_not_rescaled_round_off():
     in the plane; rescaling that to the old length pointed the spring along n. It is dropped instead, and the
     compiled law agrees."""
     n = np.array([0.0, 1.0, 1.0]).reshape(3, 1) / np.sqrt(2.0)
-    turned = turn_into_plane(np.array([0.0, 100.0, 100.0]).reshape(3, 1), n)
+    turned = _turn_into_plane(np.array([0.0, 100.0, 100.0]).reshape(3, 1), n)
     assert np.all(turned == 0.0)
     law, prm = _one_contact()
     r = force_displacement(law, prm, np.array([2e-5]), n, np.zeros((3, 1)), np.array([[0.0], [100.0], [100.0]]),

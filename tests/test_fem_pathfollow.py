@@ -232,3 +232,16 @@ def test_arc_length_at_a_kinked_peak_stops_naming_the_methods_that_pass_it():
         bar.solver(method="arc-length").run(progress=False, stop_force=0.01)
     result = bar.solver(method="dissipation").run(progress=False, stop_force=0.01)
     assert result.curves["F_right"][-1] <= 0.01 * bar.f_t * 1.0001
+
+
+def test_arc_length_on_a_long_brittle_bar_stops_at_the_peak_naming_the_methods_that_pass_it():
+    """Issue 38's second bar: 500 elements with f_t/E = 1e-4. Arc length stops at F = f_t (Newton diverges at a
+    round-off residual however short the arc) and names dissipation and opening control; both pass the peak to
+    complete separation."""
+    bar = SofteningBar(500, eps_0=1e-4, eps_f=2e-3)
+    with pytest.raises(StepFailed, match="method='dissipation'.*method='opening'") as stop:
+        bar.solver(method="arc-length").run(progress=False, stop_force=0.01)
+    assert stop.value.result.curves["F_right"][-1] == pytest.approx(bar.f_t, rel=1e-4)
+    for method in ("dissipation", "opening"):
+        result = bar.solver(method=method).run(progress=False, stop_force=0.01)
+        assert result.curves["F_right"][-1] <= 0.01 * bar.f_t * 1.0001

@@ -89,22 +89,43 @@ NON_FINITE_BY_DESIGN = {
 
 
 # ---- what is public --------------------------------------------------------------------------------------------
-def public_callables() -> dict[str, object]:
-    """``{"module.name": callable}`` of every public function and class defined in an abrakit module."""
+def _modules():
+    """Every importable abrakit module (not ``cli``, not one whose name has a leading underscore)."""
     import abrakit
 
-    found = {}
     for info in pkgutil.walk_packages(abrakit.__path__, "abrakit."):
         if any(part.startswith("_") for part in info.name.split(".")) or info.name.endswith(".cli"):
             continue
         try:
-            module = importlib.import_module(info.name)
+            yield importlib.import_module(info.name)
         except ImportError:            # an optional extra (numba, pypardiso) that is not installed
             continue
+
+
+def _callable(obj) -> bool:
+    return inspect.isfunction(obj) or (inspect.isclass(obj) and not issubclass(obj, BaseException))
+
+
+def public_callables() -> dict[str, object]:
+    """``{"module.name": callable}`` of the public surface: the functions and classes a module lists in its
+    ``__all__`` and defines itself (a subpackage's re-exports are the same objects, fuzzed once). Kernels and
+    helpers are left out of ``__all__`` (most also carry a leading underscore)."""
+    found = {}
+    for module in _modules():
+        for name in getattr(module, "__all__", ()):
+            obj = getattr(module, name)
+            if getattr(obj, "__module__", None) == module.__name__ and _callable(obj):
+                found[f"{module.__name__}.{name}"] = obj
+    return found
+
+
+def unprefixed_callables() -> dict[str, object]:
+    """The surface before it was curated: every function and class defined in a module whose name has no leading
+    underscore (what the fuzz covered until each module declared its ``__all__``)."""
+    found = {}
+    for module in _modules():
         for name, obj in vars(module).items():
-            if name.startswith("_") or getattr(obj, "__module__", None) != module.__name__:
-                continue
-            if inspect.isfunction(obj) or (inspect.isclass(obj) and not issubclass(obj, BaseException)):
+            if not name.startswith("_") and getattr(obj, "__module__", None) == module.__name__ and _callable(obj):
                 found[f"{module.__name__}.{name}"] = obj
     return found
 
@@ -383,5 +404,7 @@ if __name__ == "__main__":
         print(f"harvested {sum(map(len, found.values()))} calls of {len(found)} callables into {CATALOGUE}")
     else:
         result = fuzz(load_catalogue())
+        result["surface"] = {"public (__all__)": len(public_callables()),
+                             "without a leading underscore": len(unprefixed_callables())}
         args.out.write_text(json.dumps({k: v for k, v in result.items()}, indent=1, allow_nan=False))
         print(report(result))

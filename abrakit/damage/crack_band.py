@@ -30,6 +30,8 @@ from ..materials.softening_laws import softening_law
 from ..validation import check_number_fields, check_option, check_positive, check_range
 from . import metrics
 
+__all__ = ["CrackBandBar", "DoubleCantileverBeam", "STEEL_SPECIMENS", "demo"]
+
 #: Seed 001's material on the steel specimens of Ch. 7 (E, nu of Table 7.1; MPa, N/mm). Seed 001 gives no numbers
 #: for a steel: sigma_c and tau_c are chosen so that the double notch peaks near Model I and II (about 10 kN),
 #: G_IIc = 2 G_Ic; the toughness G_Ic (N/mm) is the parameter of a run, as beta and alpha are for Model I and II.

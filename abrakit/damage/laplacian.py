@@ -94,6 +94,9 @@ from scipy.optimize import nnls
 
 from abrakit.validation import check_finite, check_option, check_positive, check_range, check_shape, number_arguments
 
+__all__ = ["ElementLaplacian", "SUPPORTED_MESHES", "demo", "element_centres", "element_laplacian", "face_neighbours",
+           "ghost_centres", "mirror_points", "taylor_matrix", "unit_cube_mesh"]
+
 #: Element families with a Taylor stencil: mesh class -> number of face neighbours.
 SUPPORTED_MESHES = {
     skfem.MeshLine1: 2,

@@ -39,6 +39,9 @@ from .metrics import path_work
 from .model_one_fe import ModelISolver
 from .model_one_path import ModelIPathFollowingSolver
 
+__all__ = ["BarRun", "E_BAR", "LocalisationStudy", "bar_mesh", "bar_models", "cross_section", "curve_distance",
+           "demo", "localisation_study", "run_bar"]
+
 #: Young's modulus (MPa) of Tables 7.1/7.2; nu = 0 makes the strip a 1D bar.
 E_BAR = TABLE_7_1["E"]
 

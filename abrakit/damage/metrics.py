@@ -49,6 +49,10 @@ from numpy.typing import ArrayLike
 
 from ..validation import check_finite, check_range, number_arguments
 
+__all__ = ["BandWidth", "band_width", "curve_distance", "cut_width", "damaged_components", "element_areas",
+           "largest_drop", "mesh_study", "path_work", "peak", "relative_spread", "softening_displacement",
+           "specimen_metrics", "steepest_softening", "transition_ratio", "work"]
+
 
 def _curve(u, F, name="curve"):
     u, F = np.asarray(u, dtype=float), np.asarray(F, dtype=float)

@@ -67,6 +67,9 @@ from ..materials.model_one import damage_function_update
 from ..validation import check_finite, check_option, check_positive, check_range, number_arguments
 from .laplacian import ElementLaplacian, element_laplacian
 
+__all__ = ["DAMAGE_SCHEMES", "ModelIResult", "ModelISolver", "SNAP_BACK", "coupled_damage_function", "damage_update",
+           "demo", "element_damage_function", "gradient_energy", "model_one_energies", "solve_model_one"]
+
 SNAP_BACK = ("pass", "stop")
 DAMAGE_SCHEMES = ("seed", "coupled")
 
@@ -93,7 +96,7 @@ def _jacobian_pattern(laplacian: ElementLaplacian):
 FB_CORNER = 1.0 - np.sqrt(0.5)
 
 
-def fischer_burmeister(f: np.ndarray, f_old: np.ndarray, phi: np.ndarray, r_d: float, f_min: float,
+def _fischer_burmeister(f: np.ndarray, f_old: np.ndarray, phi: np.ndarray, r_d: float, f_min: float,
                        mu: float = 0.0):
     """The complementarity of Eq. (6.64) per element, ``H_i = a_i + b_i - sqrt(a_i^2 + b_i^2 + 2 mu^2)`` with
     ``a = f_old - f`` (room left below the old value) and ``b = -Phi_d / r_d``, and its partial derivatives
@@ -161,7 +164,7 @@ def coupled_damage_function(f_old, psi0_bar, laplacian: ElementLaplacian, beta: 
     pattern, row, diagonal, _ = _jacobian_pattern(laplacian)
 
     def residual(f):
-        return fischer_burmeister(f, f_old, f * (psi0_bar - beta * (L @ f)) - r_d, r_d, f_min)
+        return _fischer_burmeister(f, f_old, f * (psi0_bar - beta * (L @ f)) - r_d, r_d, f_min)
 
     f = f_old.copy() if f_start is None else np.clip(f_start, f_min, f_old)
     H, c_a, c_b = residual(f)

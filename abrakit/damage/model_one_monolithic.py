@@ -14,7 +14,7 @@ Its Jacobian needs, besides the tangent ``K`` and the damage block of
 :func:`~abrakit.damage.model_one_fe.coupled_damage_function`, how the stress depends on f and how the driving
 energy depends on the strain and on f. Each point's stress and ``Psi0+`` depend only on its own strain and its
 element's f (the return map is local), so these partial derivatives are *pointwise* and one central difference
-with every point perturbed at once gives all of them (:func:`point_sensitivities`: 2 + 2 n_c material updates, n_c
+with every point perturbed at once gives all of them (:func:`_point_sensitivities`: 2 + 2 n_c material updates, n_c
 the active strain components); the element integrals then turn them into the sparse blocks
 ``K_uf = ∂R_u/∂f`` and ``G = ∂Psibar0/∂u`` (:func:`coupling_blocks`). A central difference is exact for
 the quadratic elastic energy and second order elsewhere; the test compares the assembled blocks with a finite
@@ -28,14 +28,14 @@ from dataclasses import dataclass
 import numpy as np
 import scipy.sparse as sp
 
-__all__ = ["PointSensitivities", "point_sensitivities", "coupling_blocks"]
+__all__ = ["coupling_blocks"]
 
 #: Relative step of the central differences in f and in the strain.
 RELATIVE_STEP = 1e-6
 
 
 @dataclass(frozen=True)
-class PointSensitivities:
+class _PointSensitivities:
     """Pointwise partial derivatives at ``(nel, nqp)`` points: ``dstress_df`` (MPa, Mandel ``(nel, nqp, 6)``),
     ``dpsi_df`` (MPa) and ``dpsi_deps`` (MPa, ``(nel, nqp, 6)``, zero on inactive components)."""
 
@@ -44,17 +44,17 @@ class PointSensitivities:
     dpsi_deps: np.ndarray
 
 
-def point_sensitivities(material, state_old: dict, eps: np.ndarray, f: np.ndarray, components,
-                        elements=None) -> PointSensitivities:
+def _point_sensitivities(material, state_old: dict, eps: np.ndarray, f: np.ndarray, components,
+                        elements=None) -> _PointSensitivities:
     """Central differences of the Model I stress and driving energy ``Psi0+`` at every point with respect to its
     element's damage function ``f`` (``(nel,)``) and to each active strain component, from ``state_old`` (the
     plastic state at the start of the step). Every point is perturbed at once (the update is local).
     ``elements``: compute them on these elements only (zero elsewhere): a monolithic step needs them on the
     elements whose f is an unknown, a few of the mesh's."""
     if elements is not None:
-        part = point_sensitivities(material, {k: v[elements] for k, v in state_old.items()}, eps[elements],
+        part = _point_sensitivities(material, {k: v[elements] for k, v in state_old.items()}, eps[elements],
                                    f[elements], components)
-        full = PointSensitivities(np.zeros(eps.shape), np.zeros(eps.shape[:2]), np.zeros(eps.shape))
+        full = _PointSensitivities(np.zeros(eps.shape), np.zeros(eps.shape[:2]), np.zeros(eps.shape))
         for name in ("dstress_df", "dpsi_df", "dpsi_deps"):
             getattr(full, name)[elements] = getattr(part, name)
         return full
@@ -75,10 +75,10 @@ def point_sensitivities(material, state_old: dict, eps: np.ndarray, f: np.ndarra
         shift = np.zeros(6)
         shift[c] = h_eps
         dpsi_deps[..., c] = (update(f, eps + shift)[1] - update(f, eps - shift)[1]) / (2.0 * h_eps)
-    return PointSensitivities(dstress_df, dpsi_df, dpsi_deps)
+    return _PointSensitivities(dstress_df, dpsi_df, dpsi_deps)
 
 
-def coupling_blocks(assembler, sens: PointSensitivities) -> tuple[sp.csr_matrix, sp.csr_matrix, np.ndarray]:
+def coupling_blocks(assembler, sens: _PointSensitivities) -> tuple[sp.csr_matrix, sp.csr_matrix, np.ndarray]:
     """The element integrals of the pointwise sensitivities over all DOFs:
 
     * ``K_uf`` ``(ndof, nel)``: column e is ``int_e B^T dσ/df_e dV`` (N), how the internal force follows f_e;

@@ -59,17 +59,17 @@ from .laplacian import ElementLaplacian
 from .metrics import path_work
 from .model_one_fe import (
     FrozenDamage,
+    _fischer_burmeister,
     _jacobian_pattern,
     check_model_one_material,
     damage_update,
     element_damage_function,
     element_mean,
-    fischer_burmeister,
     indicator_jacobian_values,
     mesh_laplacian,
     model_one_energies,
 )
-from .model_one_monolithic import coupling_blocks, point_sensitivities
+from .model_one_monolithic import _point_sensitivities, coupling_blocks
 
 __all__ = ["DamageControl", "ModelIPathFollowingSolver", "ModelIPathResult"]
 
@@ -372,7 +372,7 @@ class ModelIPathFollowingSolver(PathFollowingSolver):
         psi0_bar = element_mean(response.state["psi0"], self.kin.dx)
         lap_f = np.zeros_like(f) if self.laplacian is None or model.beta == 0.0 else self.laplacian.matrix @ f
         phi = damage_indicator(f, psi0_bar, lap_f, model.beta, model.r_d)
-        H, c_a, c_b = fischer_burmeister(f, f_old, phi, model.r_d, model.f_min, SMOOTHING * self.damage_tol)
+        H, c_a, c_b = _fischer_burmeister(f, f_old, phi, model.r_d, model.f_min, SMOOTHING * self.damage_tol)
         if not (np.all(np.isfinite(residual)) and np.all(np.isfinite(H))):
             raise NewtonFailure("non-finite residual or damage complementarity", residuals)
         return _Iterate(response, residual, f_int, scale, extra_K, psi0_bar, lap_f, phi, H, c_a, c_b, trial)
@@ -390,7 +390,7 @@ class ModelIPathFollowingSolver(PathFollowingSolver):
             c_a, c_b = np.where(near, 0.0, c_a), np.where(near, 1.0, c_b)
         zone = np.flatnonzero(self._active(H, c_b))
         needed = zone if onset is None else np.union1d(zone, [onset])   # the blocks' rows and columns used below
-        sens = point_sensitivities(model, at.trial, self.assembler.strain(u), f, kin.components, needed)
+        sens = _point_sensitivities(model, at.trial, self.assembler.strain(u), f, kin.components, needed)
         K_uf, G, dpsibar_df = coupling_blocks(self.assembler, sens)
         if self.laplacian is not None and model.beta > 0.0:     # dΦ/df, then dH = -c_a df - c_b / r_d dΦ
             pattern, _, diagonal, _ = _jacobian_pattern(self.laplacian)

@@ -68,6 +68,9 @@ from ..materials import TABLE_7_2, ModelIIDamage
 from ..materials.model_two import damage_function, effective_damage_function
 from ..validation import check_option, check_positive, check_range
 
+__all__ = ["ModelTwoResult", "RATE_LIMITS", "default_material", "demo", "model_two_solver", "rate_limit_work",
+           "run_model_two"]
+
 CURVE_COLUMNS = ("step", "load_factor", "u", "F", "external_work", "rate_limit_work", "damage_increment",
                  "stored_energy", "plastic_dissipation", "damage_dissipation", "threshold_dissipation",
                  "dissipated_energy", "energy_error", "max_d", "min_f_bar", "damaged_area", "iterations",

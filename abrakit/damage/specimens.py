@@ -54,6 +54,9 @@ import skfem
 from ..fem import Dirichlet, meshes, node_row_dofs, vector_basis
 from ..validation import check_option, check_positive, check_range, number_arguments
 
+__all__ = ["FORMULATIONS", "LEVELS", "SPECIMENS", "Specimen", "THICKNESS", "double_notched", "double_notched_mesh",
+           "plate_with_hole", "plate_with_hole_mesh", "plot_field", "sharp_notch", "sharp_notch_mesh", "specimen"]
+
 #: Element targets of the named mesh levels (the seed: 900-1010, 4033-4080, 8014-8477 elements).
 LEVELS = {"coarse": 1000, "medium": 4000, "fine": 8000}
 FORMULATIONS = ("plane_strain", "extruded")

@@ -27,7 +27,6 @@ from abrakit.dem.bonds import (
     ParallelBonds,
     install_contact_bonds,
     install_parallel_bonds,
-    parallel_bond_update,
 )
 from abrakit.dem.clumps import Clumps, clump_particles, dyad, make_clumps, peanut
 from abrakit.dem.contact_laws import (
@@ -41,7 +40,7 @@ from abrakit.dem.contact_laws import (
 )
 from abrakit.dem.fatigue_bonds import FatigueBonds, install_fatigue_bonds
 from abrakit.dem.fatigue_specimen import bonded_bar, cyclic_bar
-from abrakit.dem.integrate import critical_time_step, leapfrog, local_damping
+from abrakit.dem.integrate import critical_time_step, local_damping
 from abrakit.dem.measure import (
     box_strain,
     contact_density,
@@ -80,7 +79,7 @@ __all__ = [
     "contact_density", "coordination_number", "critical_time_step", "cyclic_bar", "demo", "dense_packing", "dyad",
     "elastic_probe", "energy_balance", "force_displacement", "hertz_normal_coefficient", "hertz_shear_coefficient",
     "impact_analytic", "install_contact_bonds", "install_fatigue_bonds", "install_parallel_bonds", "kinetic_energy",
-    "leapfrog", "local_damping", "love_weber_stress", "make_clumps", "network_stiffness", "parallel_bond_update",
+    "local_damping", "love_weber_stress", "make_clumps", "network_stiffness",
     "peanut", "porosity", "relax", "rolling_sphere", "series_stiffness", "settling", "sphere_wall_impact",
     "two_sphere_impact", "unbalanced_force_ratio", "wall_stress"
 ]

@@ -21,12 +21,12 @@ from dataclasses import dataclass, fields, replace
 
 import numpy as np
 
-from abrakit.dem.contact_laws import cross, dot, turn_into_plane
+from abrakit.dem.contact_laws import _cross, _dot, _turn_into_plane
 from abrakit.dem.state import pair_keys
 from abrakit.validation import check_positive
 
-__all__ = ["CrackLog", "ParallelBonds", "bond_kinematics", "candidate_bond_pairs", "install_contact_bonds",
-           "install_parallel_bonds", "parallel_bond_update"]
+__all__ = ["CrackLog", "ParallelBonds", "candidate_bond_pairs", "install_contact_bonds",
+           "install_parallel_bonds"]
 
 
 class CrackLog:
@@ -130,8 +130,8 @@ class ParallelBonds:
 
     def stresses(self):
         """Largest tensile and shear stress on the bond periphery (σ_max, τ_max) [Pa]."""
-        sigma = -self.fn / self.area + np.sqrt(dot(self.ms, self.ms)) * self.radius / self.inertia
-        tau = np.sqrt(dot(self.fs, self.fs)) / self.area + np.abs(self.mn) * self.radius / self.polar
+        sigma = -self.fn / self.area + np.sqrt(_dot(self.ms, self.ms)) * self.radius / self.inertia
+        tau = np.sqrt(_dot(self.fs, self.fs)) / self.area + np.abs(self.mn) * self.radius / self.polar
         return sigma, tau
 
     def energy(self) -> float:
@@ -139,8 +139,8 @@ class ParallelBonds:
         if not len(self):
             return 0.0
         A, I, J = self.area, self.inertia, self.polar
-        return float(np.sum(0.5 * (self.fn**2 / (self.kn * A) + dot(self.fs, self.fs) / (self.ks * A)
-                                   + self.mn**2 / (self.ks * J) + dot(self.ms, self.ms) / (self.kn * I))))
+        return float(np.sum(0.5 * (self.fn**2 / (self.kn * A) + _dot(self.fs, self.fs) / (self.ks * A)
+                                   + self.mn**2 / (self.ks * J) + _dot(self.ms, self.ms) / (self.kn * I))))
 
 
 def candidate_bond_pairs(sim, gap, pairs, existing, kind: str):
@@ -188,42 +188,42 @@ def install_parallel_bonds(sim, *, kn, ks, tensile_strength, shear_strength, rad
     return b
 
 
-def bond_kinematics(i, j, x, v, w, radius):
+def _bond_kinematics(i, j, x, v, w, radius):
     """Geometry and relative motion of bonded pairs ``i``–``j`` (body j relative to body i, Eq. 4.4): unit normal
     ``n`` (3, B) from i to j, lever arms to the contact point, relative velocity at the contact point ``v_rel``
     (3, B), its normal component ``vn`` and the contact point; shared by the parallel and the fatigue bonds."""
     take = lambda a, idx: np.take(a.T, idx, axis=1)
     d = take(x, j) - take(x, i)
-    dist = np.sqrt(dot(d, d))
+    dist = np.sqrt(_dot(d, d))
     n = d / dist
     overlap = radius[i] + radius[j] - dist
     arm_i = radius[i] - 0.5 * overlap                  # centre of A to the contact point, Eq. (4.4)
     arm_j = radius[j] - 0.5 * overlap
-    v_rel = take(v, j) - take(v, i) - cross(arm_i * take(w, i) + arm_j * take(w, j), n)
-    return n, arm_i, arm_j, v_rel, dot(v_rel, n), take(x, i) + arm_i * n
+    v_rel = take(v, j) - take(v, i) - _cross(arm_i * take(w, i) + arm_j * take(w, j), n)
+    return n, arm_i, arm_j, v_rel, _dot(v_rel, n), take(x, i) + arm_i * n
 
 
-def parallel_bond_update(bonds: ParallelBonds, x, v, w, radius, dt):
+def _parallel_bond_update(bonds: ParallelBonds, x, v, w, radius, dt):
     """One incremental update of all parallel bonds; a pure function of the old bond state.
 
     Returns ``(new_bonds, force_on_j, torque_on_i, torque_on_j, tension, shear, contact_point)`` (vectors (3, B))
     where the masks mark bonds whose σ_max ≥ σ̄_c (tension) or τ_max ≥ τ̄_c (shear) after the update.
     """
     i, j = bonds.i, bonds.j
-    n, arm_i, arm_j, v_rel, vn, point = bond_kinematics(i, j, x, v, w, radius)
+    n, arm_i, arm_j, v_rel, vn, point = _bond_kinematics(i, j, x, v, w, radius)
     w_rel = np.take(w.T, j, axis=1) - np.take(w.T, i, axis=1)
-    twist = dot(w_rel, n)
+    twist = _dot(w_rel, n)
     A, I, J = bonds.area, bonds.inertia, bonds.polar
 
     fn = bonds.fn - bonds.kn * A * vn * dt              # ΔF̄^n = k̄^n A ΔU^n (ΔU^n = −V^n Δt)
-    fs = turn_into_plane(bonds.fs, n) - bonds.ks * A * dt * (v_rel - vn * n)
+    fs = _turn_into_plane(bonds.fs, n) - bonds.ks * A * dt * (v_rel - vn * n)
     mn = bonds.mn - bonds.ks * J * twist * dt
-    ms = turn_into_plane(bonds.ms, n) - bonds.kn * I * dt * (w_rel - twist * n)
+    ms = _turn_into_plane(bonds.ms, n) - bonds.kn * I * dt * (w_rel - twist * n)
     new = replace(bonds, fn=fn, fs=fs, mn=mn, ms=ms)
 
     force = fn * n + fs
     moment = mn * n + ms
-    lever = cross(n, force)
+    lever = _cross(n, force)
     torque_i = -arm_i * lever - moment
     torque_j = -arm_j * lever + moment
     sigma, tau = new.stresses()

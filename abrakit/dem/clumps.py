@@ -22,7 +22,7 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike
 
-from abrakit.dem.integrate import local_damping
+from abrakit.dem.integrate import _local_damping
 from abrakit.dem.state import Particles
 from abrakit.validation import check_positive, number_arguments
 
@@ -120,7 +120,7 @@ class Clumps:
         w_old = self.angular_velocity()
         dissipated = 0.0
         if alpha:
-            F_d, M_d = local_damping(F, self.v, alpha), local_damping(M, w_old, alpha)
+            F_d, M_d = _local_damping(F, self.v, alpha), _local_damping(M, w_old, alpha)
             F, M = F + F_d, M + M_d
         v_old, L_old = self.v.copy(), self.L.copy()
         self.v = self.v + F * (kick / self.mass)[:, None]

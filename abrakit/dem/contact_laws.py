@@ -2,7 +2,7 @@
 
 Per-contact vectors are stored component-major, shape (3, M): then a line of code reads like its equation
 (``fn * n`` rather than ``fn[:, None] * n``) and every component is a contiguous array, which is what makes
-the kernels fast (:func:`dot`, :func:`cross`).
+the kernels fast (``_dot``, ``_cross``).
 
 A contact law is a small object with four pure methods, all vectorised over contacts:
 
@@ -26,34 +26,39 @@ from dataclasses import dataclass
 from typing import NamedTuple
 
 import numpy as np
+from numpy.typing import ArrayLike
 
-from abrakit.validation import check_number_fields, check_poisson, check_positive, check_range
+from abrakit.validation import (
+    check_number_fields,
+    check_poisson,
+    check_positive,
+    check_range,
+    check_shape,
+    number_arguments,
+)
 
 __all__ = [
     "ContactForces",
     "HertzMindlin",
     "Linear",
-    "cross",
-    "dot",
     "force_displacement",
     "hertz_normal_coefficient",
     "hertz_shear_coefficient",
-    "rowdot",
     "series_stiffness",
 ]
 
 
-def rowdot(a, b):
+def _rowdot(a, b):
     """Row-wise dot product of two (M, 3) arrays."""
     return np.einsum("ij,ij->i", a, b)
 
 
-def dot(a, b):
+def _dot(a, b):
     """Dot product of two component-major (3, M) arrays of vectors, shape (M,)."""
     return np.einsum("ij,ij->j", a, b)
 
 
-def cross(a, b):
+def _cross(a, b):
     """Cross product of two component-major (3, M) arrays of vectors."""
     return np.array([a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]])
 
@@ -65,7 +70,7 @@ RETURN_TOL = 1e-3
 """Relative in-plane remainder below which a turned spring is projected into the plane a second time."""
 
 
-def turn_into_plane(vec, n):
+def _turn_into_plane(vec, n):
     """Remove the component of ``vec`` (3, M) along the unit normal ``n`` and restore its length.
 
     An incremental shear spring keeps its force in the contact plane when the plane turns with the pair. A spring
@@ -78,14 +83,14 @@ def turn_into_plane(vec, n):
     for the others the rescaling amplifies the round-off by less than 1/RETURN_TOL (a tenth of the cost in a dense
     packing, where almost no spring needs it).
     """
-    before = np.sqrt(dot(vec, vec))
-    vec = vec - dot(vec, n) * n
-    after = np.sqrt(dot(vec, vec))
+    before = np.sqrt(_dot(vec, vec))
+    vec = vec - _dot(vec, n) * n
+    after = np.sqrt(_dot(vec, vec))
     again = np.flatnonzero(after < RETURN_TOL * before)
     if len(again):
         v, m = vec[:, again], n[:, again]
-        vec[:, again] = v - dot(v, m) * m
-        after[again] = np.sqrt(dot(vec[:, again], vec[:, again]))
+        vec[:, again] = v - _dot(v, m) * m
+        after[again] = np.sqrt(_dot(vec[:, again], vec[:, again]))
     vec *= np.divide(before, after, out=np.zeros_like(after), where=after > PLANE_TOL * before)
     return vec
 
@@ -249,8 +254,10 @@ class ContactForces(NamedTuple):
     kt: np.ndarray               # (M,) shear stiffness [N/m]
 
 
-def force_displacement(law, prm, overlap, n, v_rel, ft, dt, bonded=None, bond_gap=None,
-                       bond_normal_strength=None, bond_shear_strength=None, energy=False) -> ContactForces:
+@number_arguments
+def force_displacement(law, prm, overlap: ArrayLike, n: ArrayLike, v_rel: ArrayLike, ft: ArrayLike, dt: float,
+                       bonded=None, bond_gap: ArrayLike | None = None, bond_normal_strength: ArrayLike | None = None,
+                       bond_shear_strength: ArrayLike | None = None, energy: bool = False) -> ContactForces:
     """One force–displacement update of ``M`` contacts, Eq. (4.5)–(4.10), with contact bonds (Fig. 4.3).
 
     ``overlap`` U (M,) [m], unit normal ``n`` (3, M) from A to B, velocity of B's contact point relative to
@@ -265,6 +272,17 @@ def force_displacement(law, prm, overlap, n, v_rel, ft, dt, bonded=None, bond_ga
       zeroed this step (Ch. 4.1.2) and the contact continues as an unbonded frictional contact;
     - dashpots in parallel, Eq. (4.9)/(4.10): D = −β V (normal and, while not sliding, tangential).
     """
+    overlap = check_shape("overlap", np.asarray(overlap, float), (None,))
+    shape = (3, len(overlap))
+    n, v_rel, ft = (check_shape(name, np.asarray(a, float), shape)
+                    for name, a in (("n", n), ("v_rel", v_rel), ("ft", ft)))
+    return _force_displacement(law, prm, overlap, n, v_rel, ft, check_positive("dt", dt), bonded, bond_gap,
+                               bond_normal_strength, bond_shear_strength, energy)
+
+
+def _force_displacement(law, prm, overlap, n, v_rel, ft, dt, bonded=None, bond_gap=None,
+                        bond_normal_strength=None, bond_shear_strength=None, energy=False) -> ContactForces:
+    """The kernel of :func:`force_displacement`, unchecked (the time step calls it with its own arrays)."""
     touching = overlap > 0.0
     fn, kn = law.normal_force(overlap, prm)
     has_bonds = bonded is not None and bonded.any()
@@ -273,13 +291,13 @@ def force_displacement(law, prm, overlap, n, v_rel, ft, dt, bonded=None, bond_ga
         touching = touching | bonded
     kt = law.shear_stiffness(fn, prm)
 
-    vn = dot(v_rel, n)
+    vn = _dot(v_rel, n)
     vt = v_rel - vn * n
-    ft = turn_into_plane(ft, n) - kt * dt * vt                     # Eq. (4.7)
+    ft = _turn_into_plane(ft, n) - kt * dt * vt                     # Eq. (4.7)
     ft *= touching                                                 # an open contact forgets its history
 
     limit = prm["mu"] * fn                                         # Eq. (4.8)
-    magnitude = np.sqrt(dot(ft, ft))
+    magnitude = np.sqrt(_dot(ft, ft))
     sliding = magnitude > limit
     tension = shear = np.zeros(len(fn), bool)
     if has_bonds:

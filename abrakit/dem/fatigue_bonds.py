@@ -22,8 +22,8 @@ from dataclasses import dataclass, fields, replace
 
 import numpy as np
 
-from abrakit.dem.bonds import bond_kinematics, candidate_bond_pairs
-from abrakit.dem.contact_laws import cross, dot, turn_into_plane
+from abrakit.dem.bonds import _bond_kinematics, candidate_bond_pairs
+from abrakit.dem.contact_laws import _cross, _dot, _turn_into_plane
 from abrakit.fatigue.bond_law import BondParameters, plastic_return
 from abrakit.fatigue.paris import cycle_update
 from abrakit.validation import check_option, check_positive
@@ -79,17 +79,17 @@ class FatigueBonds:
         if not len(self):
             return 0.0
         return float(0.5 * np.sum(self.area * (self.sigma[0] * self.elastic_n
-                                               + self.sigma[1] * np.sqrt(dot(self.elastic_s, self.elastic_s)))))
+                                               + self.sigma[1] * np.sqrt(_dot(self.elastic_s, self.elastic_s)))))
 
     def update(self, x, v, w, radius, dt):
         """One incremental step; returns ``(new_bonds, force_on_j, torque_on_i, torque_on_j, contact_point)``."""
-        n, arm_i, arm_j, v_rel, vn, point = bond_kinematics(self.i, self.j, x, v, w, radius)
-        start_n, start_s = self.elastic_n, turn_into_plane(self.elastic_s, n)
+        n, arm_i, arm_j, v_rel, vn, point = _bond_kinematics(self.i, self.j, x, v, w, radius)
+        start_n, start_s = self.elastic_n, _turn_into_plane(self.elastic_s, n)
         trial_n = start_n + vn * dt
         trial_s = start_s + (v_rel - vn * n) * dt
-        size_s = np.sqrt(dot(trial_s, trial_s))
+        size_s = np.sqrt(_dot(trial_s, trial_s))
         du_n, du_s, damage, sigma_n, sigma_s = plastic_return(
-            trial_n, size_s, self.damage, self.params, start=(start_n, np.sqrt(dot(start_s, start_s))),
+            trial_n, size_s, self.damage, self.params, start=(start_n, np.sqrt(_dot(start_s, start_s))),
             stiffness=(self.kn, self.ks))
         shrink = np.divide(size_s - du_s, size_s, out=np.ones_like(size_s), where=size_s > 0)
         elastic_s = trial_s * shrink
@@ -100,7 +100,7 @@ class FatigueBonds:
                       peak=np.maximum(self.peak, sigma), low=np.minimum(self.low, sigma),
                       ratchet=self.ratchet + flow)
         force = -self.area * (sigma_n * n + self.ks * (1.0 - damage) * elastic_s)
-        lever = cross(n, force)
+        lever = _cross(n, force)
         return new, force, -arm_i * lever, -arm_j * lever, point
 
     def onset_of_unloading(self, *, jump: float | None = None, max_cycles=None, hold_while_yielding=False,
@@ -129,7 +129,7 @@ class FatigueBonds:
                 self.damage, self.peak, self.low, self.params, width=self.width, eligible=~self.yielded, jump=jump,
                 max_cycles=max_cycles, ratchet=ratchet)
             du_s = np.abs(du_s)                             # along e_s: the shear stress here is a magnitude
-            size_s = np.sqrt(dot(self.elastic_s, self.elastic_s))
+            size_s = np.sqrt(_dot(self.elastic_s, self.elastic_s))
             self.elastic_n = self.elastic_n - du_n - skipped[0]
             self.elastic_s = self.elastic_s * np.divide(np.maximum(size_s - du_s - skipped[1], 0.0), size_s,
                                                         out=np.ones_like(size_s), where=size_s > 0)

@@ -14,16 +14,27 @@ component, α = 0.7 for quasi-static runs (Potyondy & Cundall 2004). The scheme 
 from __future__ import annotations
 
 import numpy as np
+from numpy.typing import ArrayLike
 
-__all__ = ["critical_time_step", "leapfrog", "local_damping", "particle_stiffness"]
+from abrakit.validation import check_range, check_shape, number_arguments
+
+__all__ = ["critical_time_step", "local_damping", "particle_stiffness"]
 
 
-def local_damping(force, velocity, alpha):
-    """Local non-viscous damping force F_d = −α |F| sign(v), per component [N] (seed 002 Eq. 5, 6)."""
+@number_arguments
+def local_damping(force: ArrayLike, velocity: ArrayLike, alpha: float):
+    """Local non-viscous damping force F_d = −α |F| sign(v), per component [N] (seed 002 Eq. 5, 6), 0 ≤ α < 1."""
+    check_shape("velocity", np.asarray(velocity), np.shape(force))
+    return _local_damping(np.asarray(force, float), np.asarray(velocity, float),
+                          check_range("alpha", alpha, 0.0, 1.0, high_open=True))
+
+
+def _local_damping(force, velocity, alpha):
+    """The kernel of :func:`local_damping`, unchecked (the time step calls it on its own arrays)."""
     return -alpha * np.abs(force) * np.sign(velocity)
 
 
-def leapfrog(x, v, w, force, torque, inv_mass, inv_inertia, dt, kick=None):
+def _leapfrog(x, v, w, force, torque, inv_mass, inv_inertia, dt, kick=None):
     """Advance ``v``, ``w`` by the velocity ``kick`` (default ``dt``) and ``x`` by ``dt``, in place (seed 002
     Eq. 7–9).
 

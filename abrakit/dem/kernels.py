@@ -18,7 +18,7 @@ import numpy as np
 from ..compiled import HAVE_NUMBA, njit
 from .contact_laws import PLANE_TOL, RETURN_TOL
 
-__all__ = ["HAVE_NUMBA", "advance", "linear_contacts", "linear_wall_contacts"]
+__all__ = ["HAVE_NUMBA"]
 
 
 @njit(cache=True, inline="always")

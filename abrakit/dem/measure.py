@@ -15,7 +15,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from abrakit.dem.contact_laws import rowdot
+from abrakit.dem.contact_laws import _rowdot
 from abrakit.validation import check_positive
 
 __all__ = [
@@ -137,8 +137,8 @@ def kinetic_energy(sim) -> float:
     """Kinetic energy from the half-step velocities (cheap monitor of settling) [J]."""
     p = sim.particles
     free = p.clump < 0
-    ke = 0.5 * np.sum(p.mass[free] * rowdot(p.v[free], p.v[free]))
-    ke += 0.5 * np.sum(p.inertia[free] * rowdot(p.w[free], p.w[free]))
+    ke = 0.5 * np.sum(p.mass[free] * _rowdot(p.v[free], p.v[free]))
+    ke += 0.5 * np.sum(p.inertia[free] * _rowdot(p.w[free], p.w[free]))
     if sim.clumps is not None:
         ke += sim.clumps.kinetic_energy()
     return float(ke)

@@ -16,7 +16,7 @@ from scipy.spatial import cKDTree
 from abrakit.dem.state import ContactSet, pair_keys
 from abrakit.validation import check_finite, check_positive, number_arguments
 
-__all__ = ["VerletList", "candidate_pairs", "largest_distance", "transfer_history", "wall_candidates"]
+__all__ = ["VerletList", "candidate_pairs"]
 
 
 @number_arguments
@@ -110,7 +110,7 @@ class VerletList:
         self.builds += 1
 
     def max_displacement(self, x) -> float:
-        return largest_distance(x, self.x_ref, self.compiled)
+        return _largest_distance(x, self.x_ref, self.compiled)
 
     def needs_rebuild(self, x, wall_points=None) -> bool:
         if self.x_ref is None or len(x) != len(self.x_ref):
@@ -123,11 +123,11 @@ class VerletList:
             )
         dw = 0.0
         if wall_points is not None and self.wall_ref is not None:
-            dw = largest_distance(wall_points, self.wall_ref, self.compiled)
+            dw = _largest_distance(wall_points, self.wall_ref, self.compiled)
         return dp + max(dp, dw) > self.skin
 
 
-def largest_distance(a, b, compiled: bool = False) -> float:
+def _largest_distance(a, b, compiled: bool = False) -> float:
     """max_k |a_k − b_k| over the rows of two (K, 3) arrays (0 for K = 0); ``compiled``: the numba loop."""
     if not len(a):
         return 0.0

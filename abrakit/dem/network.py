@@ -32,10 +32,10 @@ from __future__ import annotations
 import numpy as np
 import scipy.sparse as sp
 
-from abrakit.dem.contact_laws import dot
+from abrakit.dem.contact_laws import _dot
 from abrakit.dem.periodic import VOIGT, ElasticConstants, elastic_constants
 
-__all__ = ["affine_stiffness", "contact_stiffness_terms", "network_stiffness"]
+__all__ = ["affine_stiffness", "network_stiffness"]
 
 SLIDING = 1.0 - 1e-9
 """|F^t| ≥ SLIDING · μ F^n: a contact at the Coulomb limit (its tangential spring does not resist a small strain)."""
@@ -70,7 +70,7 @@ def contact_stiffness_terms(sim):
     kn = np.where(c.bonded[t], prm.get("kn", kn), kn)
     kt = np.broadcast_to(sim.law.shear_stiffness(fn, prm), t.shape).astype(float)
     ft = c.ft[:, t]
-    at_limit = ~c.bonded[t] & (np.sqrt(dot(ft, ft)) >= SLIDING * prm["mu"] * fn) & (kt > 0)
+    at_limit = ~c.bonded[t] & (np.sqrt(_dot(ft, ft)) >= SLIDING * prm["mu"] * fn) & (kt > 0)
     kt = np.where(at_limit, 0.0, kt)
     i, j = c.i[t], c.j[t]
     l = sim.branch(i, j)                                                   # (K, 3), present positions

@@ -24,11 +24,11 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from abrakit.dem.bonds import CrackLog, ParallelBonds, parallel_bond_update
+from abrakit.dem.bonds import CrackLog, ParallelBonds, _parallel_bond_update
 from abrakit.dem.clumps import make_clumps
-from abrakit.dem.contact_laws import ContactForces, Linear, cross, dot, force_displacement, rowdot
+from abrakit.dem.contact_laws import ContactForces, Linear, _cross, _dot, _force_displacement, _rowdot
 from abrakit.dem.fatigue_bonds import BROKEN, FatigueBonds
-from abrakit.dem.integrate import critical_time_step, leapfrog, local_damping, particle_stiffness
+from abrakit.dem.integrate import _leapfrog, _local_damping, critical_time_step, particle_stiffness
 from abrakit.dem.neighbours import VerletList, candidate_pairs, transfer_history, wall_candidates
 from abrakit.dem.state import ContactSet, Particles, pair_keys
 from abrakit.dem.walls import Walls
@@ -83,7 +83,7 @@ class EnergyAccount:
         return self.stored + self.dissipated - (self.initial or 0.0) - self.work
 
 
-def gather(a, index):
+def _gather(a, index):
     """Rows ``a[index]`` of an (N, 3) array as a component-major (3, M) array (``np.take`` is the fast gather)."""
     return np.take(a.T, index, axis=1)
 
@@ -213,7 +213,7 @@ class Simulation:
         if not len(c):
             return
         d = self.branch(c.i, c.j)
-        overlap = p.radius[c.i] + p.radius[c.j] - np.sqrt(rowdot(d, d))
+        overlap = p.radius[c.i] + p.radius[c.j] - np.sqrt(_rowdot(d, d))
         ratio = overlap / np.minimum(p.radius[c.i], p.radius[c.j])
         deep = ratio > limit
         if not deep.any():
@@ -286,12 +286,12 @@ class Simulation:
         v_old, w_old = (p.v.copy(), p.w.copy()) if self.track_energy else (None, None)
         force_total, torque_total = force, torque
         if self.local_damping:                                    # seed 002 Eq. (5), (6)
-            force_total = force + local_damping(force, p.v, self.local_damping)
-            torque_total = torque + local_damping(torque, p.w, self.local_damping)
+            force_total = force + _local_damping(force, p.v, self.local_damping)
+            torque_total = torque + _local_damping(torque, p.w, self.local_damping)
         if self.planar:                                           # 2D: motion in the x–y plane only
             force_total[:, 2] = 0.0
             torque_total[:, :2] = 0.0
-        leapfrog(p.x, p.v, p.w, force_total, torque_total, self.inv_mass, self.inv_inertia, dt, kick)  # Eq. 7–9
+        _leapfrog(p.x, p.v, p.w, force_total, torque_total, self.inv_mass, self.inv_inertia, dt, kick)  # Eq. 7–9
         clump_damping = 0.0
         if self.clumps is not None:
             clump_damping = self.clumps.step(p, force, torque, dt, self.local_damping, kick)
@@ -340,12 +340,12 @@ class Simulation:
         i, j, overlap = c.i[live], c.j[live], overlap[live]           # n: the live contacts' normals
         if failed:
             self._record_contact_cracks(r, i, j, np.arange(len(c))[live],
-                                        gather(p.x, i) + (p.radius[i] - 0.5 * overlap) * n)
+                                        _gather(p.x, i) + (p.radius[i] - 0.5 * overlap) * n)
         if not self.track_energy:
             return 0.0
         self.energy.friction += r.slip_dissipation
         if r.dashpot_force is not None:      # dashpot power is counted on the particles, like local damping
-            f, lever = r.dashpot_force, cross(n, r.dashpot_force)
+            f, lever = r.dashpot_force, _cross(n, r.dashpot_force)
             _scatter(self._dashpot[0], j, f)
             _scatter(self._dashpot[0], i, f, -1.0)
             _scatter(self._dashpot[1], i, (p.radius[i] - 0.5 * overlap) * lever, -1.0)
@@ -359,12 +359,12 @@ class Simulation:
         i, j, U = c.i[live], c.j[live], overlap[live]
         arm_i = p.radius[i] - 0.5 * U                                 # Eq. (4.4): centre to contact point
         arm_j = p.radius[j] - 0.5 * U
-        v_rel = gather(p.v, j) - gather(p.v, i) - cross(arm_i * gather(p.w, i) + arm_j * gather(p.w, j), n)
+        v_rel = _gather(p.v, j) - _gather(p.v, i) - _cross(arm_i * _gather(p.w, i) + arm_j * _gather(p.w, j), n)
         bonds = (c.bonded[live], c.bond_gap[live], c.bond_normal_strength[live], c.bond_shear_strength[live]) \
             if c.bonded.any() else ()
-        r = force_displacement(self.law, prm, U, n, v_rel, np.take(c.ft, live, axis=1), self.dt, *bonds,
+        r = _force_displacement(self.law, prm, U, n, v_rel, np.take(c.ft, live, axis=1), self.dt, *bonds,
                                energy=self.track_energy)
-        moment = cross(r.force, n)                                    # −n × F per unit arm: torque = r' F × n
+        moment = _cross(r.force, n)                                    # −n × F per unit arm: torque = r' F × n
         _scatter_pair_loads(force, torque, i, j, r.force, arm_i * moment, arm_j * moment)   # B: +F, A: −F
         return r
 
@@ -393,10 +393,10 @@ class Simulation:
     def _branches(self, x):
         """Branch vectors d = x_B − x_A (3, M) of the candidate contacts (nearest images) and their lengths."""
         c = self.contacts
-        d = gather(x, c.j) - gather(x, c.i)
+        d = _gather(x, c.j) - _gather(x, c.i)
         if self.periodic is not None:
             d = self.periodic.minimum_image(d, axis=0)
-        return d, np.sqrt(dot(d, d))
+        return d, np.sqrt(_dot(d, d))
 
     def _defer_compiled_results(self, x, overlap, r) -> None:
         """Normals, normal and total forces of a lean kernel step (results ``r``), built when read from the step's
@@ -443,12 +443,12 @@ class Simulation:
                 return 0.0
             arm = self._radius_wall - 0.5 * overlap
         else:
-            overlap = self._radius_wall - dot(gather(p.x, j) - gather(walls.point, k), n)
+            overlap = self._radius_wall - _dot(_gather(p.x, j) - _gather(walls.point, k), n)
             arm = self._radius_wall - 0.5 * overlap
-            v_rel = gather(p.v, j) - gather(walls.velocity, k) - cross(arm * gather(p.w, j), n)
-            r = force_displacement(self.law, c.prm, overlap, n, v_rel, c.ft, self.dt, energy=self.track_energy)
+            v_rel = _gather(p.v, j) - _gather(walls.velocity, k) - _cross(arm * _gather(p.w, j), n)
+            r = _force_displacement(self.law, c.prm, overlap, n, v_rel, c.ft, self.dt, energy=self.track_energy)
             _scatter(force, j, r.force)
-            _scatter(torque, j, arm * cross(n, r.force), -1.0)
+            _scatter(torque, j, arm * _cross(n, r.force), -1.0)
             _scatter(walls.force, k, r.force, -1.0)
             self._wall_stiffness = np.bincount(k, r.kn * r.touching, len(walls))
             c.ft, c.overlap, c.normal, c.fn, c.force = r.ft, overlap, n, r.fn, r.force
@@ -458,8 +458,8 @@ class Simulation:
         if r.dashpot_force is not None:      # the wall's share of dashpot power is −F_d · v_wall
             f = r.dashpot_force
             _scatter(self._dashpot[0], j, f)
-            _scatter(self._dashpot[1], j, arm * cross(n, f), -1.0)
-            self._dashpot_wall += float(np.sum(f * gather(walls.velocity, k)))
+            _scatter(self._dashpot[1], j, arm * _cross(n, f), -1.0)
+            self._dashpot_wall += float(np.sum(f * _gather(walls.velocity, k)))
         return self._elastic_energy(c.prm, overlap, c.bonded, c.bond_gap, r)
 
     def _ball_wall_compiled(self, force, torque):
@@ -488,7 +488,7 @@ class Simulation:
         if not len(b):
             return 0.0
         p = self.particles
-        new, f, t_i, t_j, tension, shear, point = parallel_bond_update(b, p.x, p.v, p.w, p.radius, self.dt)
+        new, f, t_i, t_j, tension, shear, point = _parallel_bond_update(b, p.x, p.v, p.w, p.radius, self.dt)
         _scatter_pair_loads(force, torque, new.i, new.j, f, t_i, t_j)
         broken = tension | shear
         if broken.any():
@@ -519,7 +519,7 @@ class Simulation:
         if bonded.any():
             normal = np.where(bonded, 0.5 * prm["kn"] * (overlap + bond_gap) ** 2, normal)
         kt = np.broadcast_to(r.kt, r.fn.shape)
-        shear = np.divide(0.5 * dot(r.ft, r.ft), kt, out=np.zeros_like(r.fn), where=kt > 0)
+        shear = np.divide(0.5 * _dot(r.ft, r.ft), kt, out=np.zeros_like(r.fn), where=kt > 0)
         return float(np.sum(normal * r.touching) + np.sum(shear))
 
     def _record_contact_cracks(self, r, i, j, index, point):
@@ -537,8 +537,8 @@ class Simulation:
         if self.step_count == 0:
             v_mid, w_mid = v_old, w_old
         free = p.clump < 0
-        e.kinetic = 0.5 * float(np.sum(p.mass[free] * rowdot(v_mid[free], v_mid[free]))
-                                + np.sum(p.inertia[free] * rowdot(w_mid[free], w_mid[free])))
+        e.kinetic = 0.5 * float(np.sum(p.mass[free] * _rowdot(v_mid[free], v_mid[free]))
+                                + np.sum(p.inertia[free] * _rowdot(w_mid[free], w_mid[free])))
         if self.clumps is not None:
             e.kinetic += self.clumps.kinetic_mid
         e.elastic = stored
@@ -587,7 +587,7 @@ class Simulation:
         new = transfer_history(old, ContactSet.empty_history(i, j, n))
         new.prm = self.law.pair_parameters(p, i, j)
         d = self.branch(i, j)
-        coincident = rowdot(d, d) <= (1e-12 * (p.radius[i] + p.radius[j])) ** 2
+        coincident = _rowdot(d, d) <= (1e-12 * (p.radius[i] + p.radius[j])) ** 2
         if coincident.any():
             a = int(np.argmax(coincident))
             raise ValueError(f"particles {i[a]} and {j[a]} have coincident centres: the contact normal "
@@ -599,7 +599,7 @@ class Simulation:
         wall_new.prm = self.law.wall_parameters(p, self.walls, k, jw)
         self.wall_contacts = wall_new
         self._radius_wall = p.radius[jw]
-        self._wall_normal = gather(self.walls.normal, k)            # walls translate only: fixed until the next build
+        self._wall_normal = _gather(self.walls.normal, k)            # walls translate only: fixed until the next build
         if type(self.law) is Linear:                 # per contact, for the compiled wall loop
             self._wall_prm = tuple(np.ascontiguousarray(np.broadcast_to(wall_new.prm[q], (len(jw),)), dtype=float)
                                    for q in ("kn", "kt", "mu", "beta_n", "beta_t"))
@@ -648,7 +648,7 @@ class Simulation:
             elif len(sides) == 2:
                 gap_overlap = p.radius[c.i] + p.radius[c.j] - np.linalg.norm(self.branch(c.i, c.j), axis=1)
             else:
-                gap_overlap = p.radius[c.j] - rowdot(p.x[c.j] - self.walls.point[c.i], self.walls.normal[c.i])
+                gap_overlap = p.radius[c.j] - _rowdot(p.x[c.j] - self.walls.point[c.i], self.walls.normal[c.i])
             fn, kn = law.normal_force(np.maximum(gap_overlap, reference), c.prm)
             kt = np.broadcast_to(law.shear_stiffness(fn, c.prm), fn.shape)
             kn = np.broadcast_to(kn, fn.shape)
@@ -684,7 +684,7 @@ class Simulation:
         v, w, radius = (p.v, p.w, p.radius) if not p.fixed.any() else (p.v[~p.fixed], p.w[~p.fixed], p.radius[~p.fixed])
         if not len(v):
             return np.inf
-        speed = np.sqrt(rowdot(v, v)) + np.sqrt(rowdot(w, w)) * radius
+        speed = np.sqrt(_rowdot(v, v)) + np.sqrt(_rowdot(w, w)) * radius
         fastest = float(speed.max())
         return np.inf if fastest == 0.0 else MAX_TRAVEL * float(p.radius.min()) / fastest
 
@@ -757,7 +757,7 @@ class Simulation:
         c = self.contacts
         touching = c.touching
         n = c.normal
-        u_t = (displacement - dot(displacement, n) * n) * touching
+        u_t = (displacement - _dot(displacement, n) * n) * touching
         kt = self.law.shear_stiffness(c.fn, c.prm)
         c.ft = c.ft - kt * u_t
 

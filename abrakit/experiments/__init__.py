@@ -8,8 +8,8 @@
 =====================================  ==================================================================
 """
 
-from abrakit.experiments import contacting  # noqa: F401  (helper 4B)
-from abrakit.experiments.closed_form_checks import (  # noqa: F401
+from abrakit.experiments import contacting
+from abrakit.experiments.closed_form_checks import (
     bond_strength_case,
     contact_statistics,
     elastic_case,
@@ -17,10 +17,14 @@ from abrakit.experiments.closed_form_checks import (  # noqa: F401
     mean_interval,
     mohr_coulomb_fit,
 )
-from abrakit.experiments.compression import (  # noqa: F401
+from abrakit.experiments.compression import (
     compression_test,
     elastic_test,
     strength_test,
 )
-from abrakit.experiments.specimen import Material, Specimen, SpecimenSpec, genesis  # noqa: F401
-from abrakit.experiments.sweeps import case_key, load_sweep, run_sweep  # noqa: F401  (helper 4B)
+from abrakit.experiments.specimen import Material, Specimen, SpecimenSpec, genesis
+from abrakit.experiments.sweeps import case_key, load_sweep, run_sweep
+
+__all__ = ["Material", "Specimen", "SpecimenSpec", "bond_strength_case", "case_key", "compression_test",
+           "contact_statistics", "contacting", "elastic_case", "elastic_test", "envelope_case", "genesis",
+           "load_sweep", "mean_interval", "mohr_coulomb_fit", "run_sweep", "strength_test"]

@@ -29,18 +29,8 @@ from abrakit.experiments.compression import SCHEMES, elastic_test, force_carryin
 from abrakit.experiments.specimen import Material, SpecimenSpec, genesis
 from abrakit.validation import check_positive, check_range, number_arguments
 
-__all__ = [
-    "BOND_CASES",
-    "demo",
-    "MIXTURE",
-    "bond_strength_case",
-    "contact_statistics",
-    "elastic_case",
-    "elastic_predictions",
-    "envelope_case",
-    "mean_interval",
-    "mohr_coulomb_fit",
-]
+__all__ = ["BOND_CASES", "DEMO_SPEC", "MIXTURE", "bond_strength_case", "contact_statistics", "demo", "elastic_case",
+           "elastic_predictions", "envelope_case", "mean_interval", "mohr_coulomb_fit"]
 
 #: Table 5.3: (f^{n,c}, f^{t,c}) as multiples of the base strength f
 BOND_CASES = {1: (1.0, 1.0), 2: (100.0, 1.0), 3: (1.0, 100.0)}

@@ -34,25 +34,15 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from abrakit.dem import love_weber_stress
-from abrakit.dem.contact_laws import rowdot
+from abrakit.dem.contact_laws import _rowdot
 from abrakit.dem.measure import contact_counts
 from abrakit.experiments.specimen import Material, Specimen
 from abrakit.io import progress_bar
 from abrakit.validation import check_option, check_positive, check_range, number_arguments
 
-__all__ = [
-    "SCHEMES",
-    "CompressionCurve",
-    "Gauges",
-    "compression_test",
-    "crack_initiation_stress",
-    "elastic_moduli",
-    "elastic_test",
-    "loading_rate",
-    "mean_contact_strain",
-    "peak_strength",
-    "strength_test",
-]
+__all__ = ["CompressionCurve", "Gauges", "SCHEMES", "compression_test", "crack_initiation_stress", "elastic_moduli",
+           "elastic_test", "force_carrying_contacts", "loading_rate", "mean_contact_strain", "peak_strength",
+           "strength_test"]
 
 SCHEMES = ("wall", "specimen", "sphere")
 
@@ -135,7 +125,7 @@ class Gauges:
         self.members = []
         for c in self.centres:
             d = p.x - c
-            inside = np.flatnonzero((rowdot(d, d) <= self.sphere_radius**2) & held)
+            inside = np.flatnonzero((_rowdot(d, d) <= self.sphere_radius**2) & held)
             if len(inside) < 4:
                 raise ValueError("a measurement sphere holds fewer than 4 particles: the specimen is too small")
             self.members.append((inside, p.x[inside].copy()))
@@ -217,7 +207,7 @@ def _sliding_fraction(sim) -> float:
     if not t.any():
         return 0.0
     limit = c.prm["mu"][t] * c.fn[t]
-    return float(np.mean(np.sqrt(rowdot(c.ft[:, t].T, c.ft[:, t].T)) >= 0.999 * limit))
+    return float(np.mean(np.sqrt(_rowdot(c.ft[:, t].T, c.ft[:, t].T)) >= 0.999 * limit))
 
 
 def compression_test(sim, confinement: float, *, strain_rate: float, max_strain: float, records: int = 200,

@@ -105,36 +105,30 @@ class BondParameters:
         return BondParameters(**{**asdict(self), **changes})
 
 
-def criterion(sigma_n: ArrayLike, sigma_s: ArrayLike, damage: ArrayLike, p: BondParameters, level: ArrayLike = 1.0):
-    """Yield function F (Eq. 18, ``level`` = 1) or fatigue criterion F_f (Eq. 23, ``level`` = a) [Pa²].
-
-    ``level`` scales the cohesion and the tensile strength; F < 0 inside. Beyond the apex's far branch the
-    function is continued monotonically (module docstring)."""
+def _criterion(sigma_n: ArrayLike, sigma_s: ArrayLike, damage: ArrayLike, p: BondParameters, level: ArrayLike = 1.0):
+    """The kernel of :func:`criterion`, unchecked (the return map's Newton iterations call it)."""
     intact = 1.0 - np.asarray(damage, float)
     q = level * p.cohesion * intact - np.asarray(sigma_n, float) * p.tan_phi
     q0 = level * (p.cohesion - p.tensile_strength * p.tan_phi) * intact
     return p.alpha**2 * np.asarray(sigma_s, float) ** 2 - q * np.abs(q) + q0 * q0
 
 
-def flow_direction(sigma_n: ArrayLike, sigma_s: ArrayLike, damage: ArrayLike, p: BondParameters,
-                   level: ArrayLike = 1.0):
-    """Plastic flow direction (∂G/∂σ_n, ∂G/∂σ_s)/2 = (tan ψ [level·c(1 − D) − σ_n tan ψ], σ_s) (Eq. 19, 20; with
-    ``level`` = a, the ratio of fatigue displacements of Eq. 37)."""
+def _flow_direction(sigma_n: ArrayLike, sigma_s: ArrayLike, damage: ArrayLike, p: BondParameters,
+                    level: ArrayLike = 1.0):
+    """The kernel of :func:`flow_direction`, unchecked (the return map's Newton iterations call it)."""
     return (p.tan_psi * (level * p.cohesion * (1.0 - np.asarray(damage, float)) - np.asarray(sigma_n) * p.tan_psi),
             np.asarray(sigma_s, float))
 
 
-def damage_after(damage, du_n, du_s, p: BondParameters):
-    """Damage after irreversible displacement increments Δu_n, Δu_s (Eq. 21, 22 with χ = 1 − D, reconstructed):
-    D' = 1 − (1 − D) exp(−|Δu_n|/ū_n − |Δu_s|/ū_s)."""
+def _damage_after(damage: ArrayLike, du_n: ArrayLike, du_s: ArrayLike, p: BondParameters):
+    """The kernel of :func:`damage_after`, unchecked (the return map's Newton iterations call it)."""
     damage = np.asarray(damage, float)
     return damage - (1.0 - damage) * np.expm1(-np.abs(du_n) / p.un - np.abs(du_s) / p.us)
 
 
-def bond_stresses(elastic_n: ArrayLike, elastic_s: ArrayLike, damage: ArrayLike, p: BondParameters,
-                  kn: ArrayLike | None = None, ks: ArrayLike | None = None):
-    """(σ_n, σ_s) from the elastic displacements uᵉ = u − uᵖ − uᶠ (Eq. 15, 16): degraded stiffness in tension,
-    full normal stiffness in compression. ``kn``, ``ks`` (per bond) replace ``p.kn``, ``p.ks`` if given."""
+def _bond_stresses(elastic_n: ArrayLike, elastic_s: ArrayLike, damage: ArrayLike, p: BondParameters,
+                   kn: ArrayLike | None = None, ks: ArrayLike | None = None):
+    """The kernel of :func:`bond_stresses`, unchecked (the return map's Newton iterations call it)."""
     kn, ks = (p.kn if kn is None else kn), (p.ks if ks is None else ks)
     elastic_n = np.asarray(elastic_n, float)
     intact = 1.0 - np.asarray(damage, float)
@@ -142,20 +136,54 @@ def bond_stresses(elastic_n: ArrayLike, elastic_s: ArrayLike, damage: ArrayLike,
     return sigma_n, ks * intact * np.asarray(elastic_s, float)
 
 
+# The public functions check their numbers (NaN and None refused by name); the return map's Newton iterations call
+# the kernels above them, which trust their arrays.
+@number_arguments
+def criterion(sigma_n: ArrayLike, sigma_s: ArrayLike, damage: ArrayLike, p: BondParameters, level: ArrayLike = 1.0):
+    """Yield function F (Eq. 18, ``level`` = 1) or fatigue criterion F_f (Eq. 23, ``level`` = a) [Pa²].
+
+    ``level`` scales the cohesion and the tensile strength; F < 0 inside. Beyond the apex's far branch the
+    function is continued monotonically (module docstring)."""
+    return _criterion(sigma_n, sigma_s, damage, p, level)
+
+
+@number_arguments
+def flow_direction(sigma_n: ArrayLike, sigma_s: ArrayLike, damage: ArrayLike, p: BondParameters,
+                   level: ArrayLike = 1.0):
+    """Plastic flow direction (∂G/∂σ_n, ∂G/∂σ_s)/2 = (tan ψ [level·c(1 − D) − σ_n tan ψ], σ_s) (Eq. 19, 20; with
+    ``level`` = a, the ratio of fatigue displacements of Eq. 37)."""
+    return _flow_direction(sigma_n, sigma_s, damage, p, level)
+
+
+@number_arguments
+def damage_after(damage: ArrayLike, du_n: ArrayLike, du_s: ArrayLike, p: BondParameters):
+    """Damage after irreversible displacement increments Δu_n, Δu_s (Eq. 21, 22 with χ = 1 − D, reconstructed):
+    D' = 1 − (1 − D) exp(−|Δu_n|/ū_n − |Δu_s|/ū_s)."""
+    return _damage_after(damage, du_n, du_s, p)
+
+
+@number_arguments
+def bond_stresses(elastic_n: ArrayLike, elastic_s: ArrayLike, damage: ArrayLike, p: BondParameters,
+                  kn: ArrayLike | None = None, ks: ArrayLike | None = None):
+    """(σ_n, σ_s) from the elastic displacements uᵉ = u − uᵖ − uᶠ (Eq. 15, 16): degraded stiffness in tension,
+    full normal stiffness in compression. ``kn``, ``ks`` (per bond) replace ``p.kn``, ``p.ks`` if given."""
+    return _bond_stresses(elastic_n, elastic_s, damage, p, kn, ks)
+
+
 def _return_residual(y, trial_n, trial_s, damage, p, normal_stress, kn, ks, scale):
     """Residual of the plastic return in scaled unknowns y = (Δu_nᵖ/ū_n, Δu_sᵖ/ū_s, 2Δλ c/ū_s), shape (3, B);
     F is scaled by ``scale``² (:func:`_yield_scale`)."""
     a, b, lam = y
-    d = damage_after(damage, a * p.un, b * p.us, p)
+    d = _damage_after(damage, a * p.un, b * p.us, p)
     if normal_stress is None:
-        sigma_n, sigma_s = bond_stresses(trial_n - a * p.un, trial_s - b * p.us, d, p, kn, ks)
+        sigma_n, sigma_s = _bond_stresses(trial_n - a * p.un, trial_s - b * p.us, d, p, kn, ks)
     else:
         sigma_n = normal_stress
         sigma_s = ks * (1.0 - d) * (trial_s - b * p.us)
     g = lam * p.us / p.cohesion                                   # 2Δλ [m/Pa]
-    flow_n, flow_s = flow_direction(sigma_n, sigma_s, d, p)
+    flow_n, flow_s = _flow_direction(sigma_n, sigma_s, d, p)
     r = np.array([a - g * flow_n / p.un, b - g * flow_s / p.us,
-                  criterion(sigma_n, sigma_s, d, p) / scale**2])
+                  _criterion(sigma_n, sigma_s, d, p) / scale**2])
     return r, d, sigma_n, sigma_s
 
 
@@ -229,21 +257,21 @@ def plastic_return(trial_n: ArrayLike, trial_s: ArrayLike, damage: ArrayLike, p:
         normal_stress = np.broadcast_to(np.asarray(normal_stress, float), trial_s.shape)
         sigma_n, sigma_s = normal_stress.copy(), ks * (1.0 - damage) * trial_s
     else:
-        sigma_n, sigma_s = bond_stresses(trial_n, trial_s, damage, p, kn, ks)
+        sigma_n, sigma_s = _bond_stresses(trial_n, trial_s, damage, p, kn, ks)
     du_n, du_s, d = np.zeros_like(trial_s), np.zeros_like(trial_s), damage.copy()
     scale = _yield_scale(sigma_n, damage, p)          # the tolerance is relative to the surface's size
-    active = np.flatnonzero(criterion(sigma_n, sigma_s, damage, p) > tol * scale**2)
+    active = np.flatnonzero(_criterion(sigma_n, sigma_s, damage, p) > tol * scale**2)
     if not active.size:
         return du_n, du_s, d, sigma_n, sigma_s
     tn, ts, d0 = trial_n[active], trial_s[active], damage[active]
     fixed = None if normal_stress is None else normal_stress[active]
     # First guess: one linearised return at the trial stress, damage frozen.
     sn, ss = sigma_n[active], sigma_s[active]
-    fn, fs = flow_direction(sn, ss, d0, p)
+    fn, fs = _flow_direction(sn, ss, d0, p)
     dfn = 2.0 * p.tan_phi * np.abs(p.cohesion * (1.0 - d0) - sn * p.tan_phi)
     dfs = 2.0 * p.alpha**2 * ss
     stiff_n = 0.0 if fixed is not None else kn[active] * (1.0 - d0)
-    g0 = criterion(sn, ss, d0, p) / (dfn * stiff_n * fn + dfs * ks[active] * (1.0 - d0) * fs)
+    g0 = _criterion(sn, ss, d0, p) / (dfn * stiff_n * fn + dfs * ks[active] * (1.0 - d0) * fs)
     args = (tn, ts, d0, p, fixed, kn[active], ks[active], scale[active])
     y, converged = _newton(np.array([g0 * fn / p.un, g0 * fs / p.us, g0 * p.cohesion / p.us]), args, tol, max_iter)
     _, d_act, sn, ss = _return_residual(y, *args)

@@ -27,6 +27,8 @@ from .kinematics import (
     Kinematics,
 )
 
+__all__ = ["Assembler", "skfem_internal_force", "skfem_tangent"]
+
 # Element matrices are built in chunks of at most this many entries (bounds the temporary memory).
 _CHUNK_ENTRIES = 4_000_000
 # B-matrices of all elements are kept (and element matrices collected for one scatter) below this size:

@@ -31,6 +31,8 @@ from ..compiled import HAVE_NUMBA
 from ..validation import number_arguments
 from . import _fbar_kernels
 
+__all__ = ["FBarKinematics", "Kinematics", "TotalLagrangianKinematics", "vector_basis"]
+
 SQRT1_2 = np.sqrt(0.5)
 
 # eps_I = sum over rows (I, i, k, w) of w * du_i/dx_k   -- the rows of Eq. (4.28) in Mandel form

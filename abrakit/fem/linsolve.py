@@ -30,6 +30,9 @@ from scipy.sparse.csgraph import reverse_cuthill_mckee
 
 from ..validation import all_finite, check_option, check_positive, check_range, number_arguments
 
+__all__ = ["AMGSolver", "BACKENDS", "DirectSolver", "LinearSolveError", "make_linear_solver", "pardiso_available",
+           "rigid_body_modes"]
+
 # 3D problems with more free DOFs than this use AMG under linear_solver="auto" (benchmarks/bench_linear_solvers.py,
 # elastic hex block, factorisation + solve against AMG set-up + CG): with PARDISO 0.79 s vs 1.12 s at 28k DOFs and
 # 7.9 s vs 5.1 s at 90k; with SuperLU alone 4.8 s vs 1.1 s at 28k.

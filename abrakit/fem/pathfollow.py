@@ -66,6 +66,9 @@ from ..validation import check_finite, check_number_fields, check_option, check_
 from .linsolve import LinearSolveError
 from .solver import NewtonFailure, Solver, SolveResult, StepContext, StepFailed, _Recorder
 
+__all__ = ["ArcLength", "ConstraintSingular", "DissipationControl", "LoadFactorControl", "METHODS", "OpeningControl",
+           "PathControl", "PathFollowingSolver", "PathPoint"]
+
 METHODS = ("dissipation", "arc-length", "opening")
 
 
@@ -292,14 +295,19 @@ class PathControl:
 
 
 def _better_method(constraint, reason: str) -> str:
-    """The advice a failed arc-length run ends with. Where the arc-length equation has no real root however short
-    the arc (a non-smooth limit point: a softening point's loading flag alternates between iterations, the path has
-    a kink, and cutting the arc cannot help; the snap-back bar ``SofteningBar(37)`` stops there), the constraints
-    that pass such peaks are named."""
-    if isinstance(constraint, ArcLength) and NO_REAL_ROOT in reason:
+    """The advice a failed arc-length run ends with. At a non-smooth limit point (a softening point's loading flag
+    alternates between iterations, the path has a kink) cutting the arc cannot help: the arc-length equation has no
+    real root however short the arc (the snap-back bar ``SofteningBar(37)``), or Newton diverges at a residual of
+    round-off size (``SofteningBar(500, eps_0=1e-4, eps_f=2e-3)``, f_t/E = 1e-4, stops at F = f_t). Either way the
+    constraints that pass such peaks are named."""
+    if not isinstance(constraint, ArcLength):
+        return ""
+    if NO_REAL_ROOT in reason:
         return ("; arc length cannot pass this peak (a kink of the path: cutting the arc does not help): follow "
                 "it with method='dissipation' or with method='opening' and opening=(dofs, dofs) across the band")
-    return ""
+    return ("; arc length could not continue however short the arc: at the peak of a softening structure (a kink "
+            "of the path) follow it with method='dissipation' or with method='opening' and opening=(dofs, dofs) "
+            "across the band")
 
 
 class PathFollowingSolver(Solver):

@@ -44,6 +44,9 @@ from .kinematics import Kinematics
 from .linsolve import DirectSolver, LinearSolveError, make_linear_solver, rigid_body_modes
 from .output import RunWriter, load_matching_checkpoint
 
+__all__ = ["NewtonFailure", "NewtonOptions", "SolveResult", "Solver", "StepContext", "StepControl", "StepFailed",
+           "solve"]
+
 
 @dataclass(frozen=True)
 class StepControl:

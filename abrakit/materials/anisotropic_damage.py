@@ -62,6 +62,8 @@ from ..validation import check_finite, check_number_fields, check_option, check_
 from .base import IsotropicElasticity, MaterialResponse, check_strain
 from .softening_laws import max_band_width, softening_law
 
+__all__ = ["AnisotropicSofteningDamage", "ProjectedBandWidth", "SURFACES", "projected_band_width"]
+
 #: The seed's traction failure surfaces, in its numbering 0–3.
 SURFACES = ("cuboid", "elliptical_cylinder", "ovoid", "coupled_cuboid")
 _SQRT2 = np.sqrt(2.0)
@@ -137,7 +139,7 @@ def projected_band_width(basis, mirror_y: bool = False) -> ProjectedBandWidth:
     return ProjectedBandWidth(np.broadcast_to(corners[:, None], (corners.shape[0], nqp, *corners.shape[1:])), factor)
 
 
-def crack_axes(normals: np.ndarray, plane: bool) -> np.ndarray:
+def _crack_axes(normals: np.ndarray, plane: bool) -> np.ndarray:
     """Orthonormal crack axes (m, 3, 3), rows n, t1, t2, for unit ``normals`` (m, 3): in the plane, t1 = n turned
     by 90° about z and t2 = z; in 3D, t1 along n × (the axis least aligned with n)."""
     m = len(normals)
@@ -294,7 +296,7 @@ class AnisotropicSofteningDamage(IsotropicElasticity):
     def initiation_on_plane(self, strain, normals, h, rs, rt) -> tuple[np.ndarray, np.ndarray]:
         """Initiation on a prescribed crack plane (``crack_normal``): a point cracks when its tractions on that
         plane leave the failure surface at zero damage; returns (cracks, axes) like :meth:`initiation`."""
-        axes = crack_axes(normals, self.plane)
+        axes = _crack_axes(normals, self.plane)
         local = np.einsum("mij,mj->mi", T.mandel_rotation(axes), strain)
         zero = np.zeros((len(normals), 3))
         d, _, _ = self._damage(local, zero, zero, h, rs, rt, derivatives=False)

@@ -21,9 +21,13 @@ from dataclasses import dataclass
 from typing import Protocol, runtime_checkable
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from .. import tensors as T
-from ..validation import check_finite, check_positive, check_shape
+from ..validation import check_finite, check_positive, check_shape, number_arguments
+
+__all__ = ["DEVIATORIC", "IDENTITY", "IsotropicElasticity", "Material", "MaterialResponse", "check_strain",
+           "deviator", "finite_difference_tangent"]
 
 #: Mandel vector of the second-order identity I.
 IDENTITY = np.array([1.0, 1.0, 1.0, 0.0, 0.0, 0.0])
@@ -56,12 +60,18 @@ class Material(Protocol):
         ...
 
 
-def deviator(v: np.ndarray) -> np.ndarray:
-    """``dev A = A - tr(A)/3 I`` of a Mandel vector."""
+@number_arguments
+def deviator(v: ArrayLike) -> np.ndarray:
+    """``dev A = A - tr(A)/3 I`` of a Mandel vector ``v`` (..., 6)."""
+    return _deviator(check_shape("v", np.asarray(v, dtype=float), (..., 6)))
+
+
+def _deviator(v: np.ndarray) -> np.ndarray:
+    """The kernel of :func:`deviator`, unchecked (the return maps call it on their own arrays)."""
     return v - v[..., :3].sum(axis=-1, keepdims=True) / 3.0 * IDENTITY
 
 
-def outer(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+def _outer(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     """Batched dyadic product ``a (x) b`` of two Mandel vectors, ``(..., 6, 6)``."""
     return a[..., :, None] * b[..., None, :]
 

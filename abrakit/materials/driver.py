@@ -24,6 +24,9 @@ from .. import tensors as T
 from ..validation import check_positive, number_arguments
 from .base import finite_difference_tangent
 
+__all__ = ["DriverError", "PathResult", "cycles", "drive", "plane_strain_tension", "pure_shear", "ramp",
+           "uniaxial_strain", "uniaxial_stress"]
+
 _COMPONENTS = {"11": 0, "22": 1, "33": 2, "23": 3, "13": 4, "12": 5, "32": 3, "31": 4, "21": 5}
 _SQRT2 = np.sqrt(2.0)
 

@@ -43,7 +43,7 @@ from .elastic import LinearElastic
 from .model_two import ModelIIDamage
 from .plasticity import VonMisesPlasticity
 
-__all__ = ["LogStrainPlasticity", "log_derivative", "log_divided_differences", "mandel_rotation"]
+__all__ = ["LogStrainPlasticity", "log_derivative", "log_divided_differences"]
 
 _PAIRS = np.array(T.VOIGT_PAIRS)                               # Mandel component I <-> index pair (p_I, q_I)
 _WEIGHT = np.array([1.0, 1.0, 1.0, np.sqrt(2.0), np.sqrt(2.0), np.sqrt(2.0)])
@@ -69,7 +69,7 @@ def log_derivative(vectors: ArrayLike, gamma: ArrayLike, h: ArrayLike) -> np.nda
     return Q @ (G * (Qt @ h @ Q)) @ Qt
 
 
-def mandel_rotation(Q: np.ndarray) -> np.ndarray:
+def _mandel_rotation(Q: np.ndarray) -> np.ndarray:
     """R (..., 6, 6) with to_mandel(Qᵀ A Q) = R @ to_mandel(A) for symmetric A and rotations Q (..., 3, 3)."""
     p, q = _PAIRS[:, 0], _PAIRS[:, 1]                # rows: components in the rotated basis (a, b) = (p_I, q_I)
     i, j = p[None, :], q[None, :]                    # columns: global components (i, j) = (p_J, q_J)
@@ -91,7 +91,7 @@ def _tangent(F_inv, Q, lam, D, P):
     h_t = l_t * lam[..., None, None, None, :] + lam[..., None, None, :, None] * np.swapaxes(l_t, -1, -2)
     d_eps = 0.5 * log_divided_differences(lam)[..., None, None, :, :] * h_t
     d_eps = d_eps[..., _PAIRS[:, 0], _PAIRS[:, 1]] * _WEIGHT                # Mandel in the eigenbasis, (.., k, L, 6)
-    R = mandel_rotation(Q)
+    R = _mandel_rotation(Q)
     D_t = R @ D @ np.swapaxes(R, -1, -2)
     d_tau_v = np.einsum("...IJ,...klJ->...klI", D_t, d_eps)
     d_tau = np.zeros(d_tau_v.shape[:-1] + (3, 3))

@@ -43,8 +43,11 @@ from ..validation import (
     check_range,
     number_arguments,
 )
-from .base import IsotropicElasticity, MaterialResponse, check_strain, outer
+from .base import IsotropicElasticity, MaterialResponse, _outer, check_strain
 from .plasticity import INTEGRATIONS, plastic_step
+
+__all__ = ["DAMAGE_ENERGIES", "ModelIIDamage", "TANGENTS", "damage_function", "driving_forces",
+           "effective_damage_function", "erve_strains"]
 
 TANGENTS = ("consistent", "seed")
 DAMAGE_ENERGIES = ("full", "tension")
@@ -221,7 +224,7 @@ class ModelIIDamage(IsotropicElasticity):
         df_bar_dd = -2.0 * f_bar_old[..., None] ** 2 / (self.n * (1.0 - d_old) ** 3)
         sigma0_old = (state["eps"] - state["eps_p"]) @ self.stiffness  # E : (eps^m - eps_p^m)
         dpsi_deps = self.driving_energy_gradient(eps - state["eps_p"], self.damage_energy)  # E : (eps^{m+1} - eps_p^m)
-        rank_one = outer(sigma0_old, np.sum(df_bar_dd * dd_dpsi, axis=-1)[..., None] * dpsi_deps)
+        rank_one = _outer(sigma0_old, np.sum(df_bar_dd * dd_dpsi, axis=-1)[..., None] * dpsi_deps)
         return f_bar_old[..., None, None] * self.stiffness + rank_one
 
     def effective_damage(self, state) -> np.ndarray:

@@ -35,7 +35,10 @@ from numpy.typing import ArrayLike
 
 from ..compiled import HAVE_NUMBA, njit
 from ..validation import check_number_fields, check_option, check_poisson, check_positive, number_arguments
-from .base import DEVIATORIC, IsotropicElasticity, MaterialResponse, check_strain, deviator, outer
+from .base import DEVIATORIC, IsotropicElasticity, MaterialResponse, _deviator, _outer, check_strain
+
+__all__ = ["INTEGRATIONS", "PlasticStep", "VonMisesPlasticity", "plastic_step", "uniaxial_hardening_modulus",
+           "uniaxial_yield_stress"]
 
 INTEGRATIONS = ("explicit", "implicit")
 
@@ -84,7 +87,7 @@ def _return_map(eps, eps_p, alpha_p, shear_modulus, r_p, K_H, integration) -> Pl
     if r_p is None:
         return PlasticStep(new_eps_p, new_alpha_p, plastic_increment, softening, np.zeros(batch, bool))
     two_G = 2.0 * np.asarray(shear_modulus, dtype=float)
-    s_trial = two_G[..., None] * deviator(eps - new_eps_p)   # dev f E : (eps^{m+1} - eps_p^m)
+    s_trial = two_G[..., None] * _deviator(eps - new_eps_p)   # dev f E : (eps^{m+1} - eps_p^m)
     q = np.sqrt(np.einsum("...i,...i->...", s_trial, s_trial))
     yield_stress = r_p + K_H * new_alpha_p
     active = q > yield_stress  # Phi_p > 0, Eq. (6.60)
@@ -113,7 +116,7 @@ def _return_map(eps, eps_p, alpha_p, shear_modulus, r_p, K_H, integration) -> Pl
         # (2G)^2 (n (x) n / (2G + K_H) + dg/q (P_dev - n (x) n))
         b = two_G**2 * d_gamma / q
         a = two_G**2 / (two_G + K_H) - b
-    softening[active] = a[:, None, None] * outer(normal, normal) + b[:, None, None] * DEVIATORIC
+    softening[active] = a[:, None, None] * _outer(normal, normal) + b[:, None, None] * DEVIATORIC
     return PlasticStep(new_eps_p, new_alpha_p, plastic_increment, softening, active)
 
 

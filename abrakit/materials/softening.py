@@ -26,7 +26,9 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..validation import check_number_fields, check_poisson, check_positive, check_range
-from .base import IsotropicElasticity, MaterialResponse, check_strain, outer
+from .base import IsotropicElasticity, MaterialResponse, _outer, check_strain
+
+__all__ = ["LinearSofteningDamage"]
 
 
 @dataclass(frozen=True)
@@ -77,7 +79,7 @@ class LinearSofteningDamage(IsotropicElasticity):
             k, e0 = kappa[softening], eps_0[softening]
             d_prime = self.eps_f * e0 / (kappa[softening] ** 2 * (self.eps_f - e0))     # dd/dkappa
             direction = eps[softening] / k[:, None]                                       # dkappa/deps
-            tangent[softening] -= d_prime[:, None, None] * outer(effective[softening], direction)
+            tangent[softening] -= d_prime[:, None, None] * _outer(effective[softening], direction)
         return MaterialResponse(stress, tangent, {"eps": eps.copy(), "kappa": kappa, "d": d})
 
     def dissipation(self, state) -> np.ndarray:

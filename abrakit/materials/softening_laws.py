@@ -27,6 +27,8 @@ import numpy as np
 
 from ..validation import check_option, check_positive
 
+__all__ = ["ExponentialSoftening", "LinearSoftening", "SOFTENING_LAWS", "max_band_width", "softening_law"]
+
 
 @dataclass(frozen=True)
 class LinearSoftening:

@@ -29,6 +29,9 @@ from scipy import special
 
 from ..validation import check_number_fields, check_option, check_positive, check_range
 
+__all__ = ["DISTRIBUTIONS", "StrengthStatistics", "normal_cdf", "truncated_cdf", "weibull_cdf", "weibull_cv",
+           "weibull_mean"]
+
 P_RANGE = (0.001, 0.999)
 DISTRIBUTIONS = ("normal", "weibull")
 MODES = (1, 2, 3)

@@ -57,7 +57,7 @@ from abrakit.scratch.contact import OPEN, SLIP, STICK, contact_response, initial
 from abrakit.scratch.indenters import SurfaceGap
 from abrakit.validation import check_positive
 
-__all__ = ["CHATTER_FLIPS", "ContactForces", "IndenterContact", "nodal_areas", "surface_facets"]
+__all__ = ["CHATTER_FLIPS", "ContactForces", "IndenterContact"]
 
 CHATTER_FLIPS = 2
 """Stick/slip switches (or reversals of the slip) of one node within one load step after which it slips along its

@@ -88,33 +88,10 @@ from abrakit.scratch.indenters import ConicalIndenter, FineZone, ScratchPath, Sp
 from abrakit.scratch.record import PHASES, ScratchRecorder
 from abrakit.validation import check_number_fields, check_option, check_positive, check_range, number_arguments
 
-__all__ = [
-    "GrooveBalance",
-    "HertzCheck",
-    "LineSearchSolver",
-    "MESH_LEVELS",
-    "ReusedPreconditioner",
-    "SEED_FORMULATION",
-    "SPECIMEN",
-    "DEMO_SCENE",
-    "ST52",
-    "TABLE_8_2",
-    "ScratchResult",
-    "ScratchScene",
-    "Specimen",
-    "SpecimenMesh",
-    "build_specimen",
-    "demo",
-    "groove_along",
-    "groove_balance",
-    "groove_section",
-    "hertz_indentation",
-    "nested_dissection",
-    "run_scratch",
-    "scene_linear_solver",
-    "st52_material",
-    "zoned_axis",
-]
+__all__ = ["GrooveBalance", "HertzCheck", "LineSearchSolver", "MESH_LEVELS", "SEED_FORMULATION", "SPECIMEN",
+           "DEMO_SCENE", "ST52", "TABLE_8_2", "ScratchResult", "ScratchScene", "Specimen", "SpecimenMesh",
+           "build_specimen", "demo", "groove_along", "groove_balance", "groove_section", "hertz_indentation",
+           "run_scratch", "scene_linear_solver", "st52_material"]
 
 SPECIMEN = (0.1, 0.015, 0.2)
 """The seed's block, mm: full width (x), thickness (y), length along the scratch (z) = 100 × 15 × 200 µm."""
