@@ -194,6 +194,7 @@ def planned(quick: bool) -> dict[str, ScratchScene]:
     plan["default_small"] = seed_scene
     plan["default_fbar"] = seed_scene.with_(kinematics="finite", bbar=True)
     plan["grain_200um_fullint"] = full.with_(indenter=SphericalIndenter(0.1), depth=0.001)
+    plan.update({f"{name}_damage": plan[name].with_(damage=True) for name in DAMAGE_RUNS})
     return plan
 
 
@@ -201,6 +202,11 @@ GRAINS = {"grain_100um": (0.05, 0.004), "grain_200um": (0.1, 0.002)}
 """First guesses for the grains of Sec. 8.4 (finite strain, F-bar): (R, d) in mm. The seed does not state its
 depths, only f_N = 2 N. The d = 2 µm, R = 50 µm F-bar run carries F_N = 1.03 N; a fully plastic contact carries
 F = p_m π a²/2 with a² ≈ 2 R d, so 2 N needs R d ≈ 200 µm², d = 4 µm for R = 50 µm and d = 2 µm for R = 100 µm."""
+
+DAMAGE_RUNS = {"grain_100um": 100, "fbar_R100_d1.75um": 200}
+"""The grains' F-bar runs nearest 2 N (R = 50 µm, d = 4 µm, F_N 2.5 N; R = 100 µm, d = 1.75 µm, F_N 1.9 N) run
+again with Model II on top (Table 8.2, ``damage_rate="work"``): removal in the scene's own physics, with and
+without, on the same scene (run name + "_damage"), keyed by the grain size D in µm."""
 
 GRAIN_SERIES = {"grain_100um": ("finite_fbar", "fbar_d3.25um", "grain_100um"),
                 "grain_200um": ("fbar_R100_d1.75um", "grain_200um")}
@@ -302,6 +308,7 @@ def main(outdir: Path = RESULTS, quick: bool = False, only: str | None = None, p
                 "eps_c_for_seed_f_ab": critical_strain_for(grains[name]["removal"], SEED_GRAINS[D]["f_ab"])
                 if grains[name]["removal"] else None}
             for D, name in ((100, "grain_100um"), (200, "grain_200um")) if name in grains}
+        results["removal_model"] = removal_model(outdir, runs)
     results["wall_time_s"] = time.perf_counter() - t0
     with CurveWriter(outdir / "scratch_steady.csv", COLUMNS) as w:
         for entry in runs.values():
@@ -309,6 +316,26 @@ def main(outdir: Path = RESULTS, quick: bool = False, only: str | None = None, p
     write_json(outdir / "scratch_steady.json", results)
     plot(results, outdir / "scratch_steady.png")
     return results
+
+
+REMOVAL_KEYS = ("F_N", "A_g_um2", "A_s_um2", "f_ab", "f_ab_rates", "wall_time_s")
+
+
+def removal_model(outdir: Path, runs: dict) -> dict:
+    """Per grain (D in µm), the run with Model II on top beside the same scene without it: forces, groove, f_ab
+    (section and steady rates), the removed volume (elements at the damage cap) and the removed elements."""
+    out = {}
+    for name, D in DAMAGE_RUNS.items():
+        damaged = f"{name}_damage"
+        if damaged not in runs or name not in runs or not runs[damaged]["row"]["finished"]:
+            continue
+        summary = read_json(outdir / "scratch_steady" / damaged / "summary.json")
+        out[str(D)] = {"runs": [name, damaged],
+                       "without": {k: runs[name]["row"][k] for k in REMOVAL_KEYS},
+                       "with": {k: runs[damaged]["row"][k] for k in REMOVAL_KEYS},
+                       "removed_um3": summary["volume_budget_um3"]["removed"],
+                       "removed_elements": summary["removed_elements"]}
+    return out
 
 
 def table_8_4(fine: dict, coarse: dict) -> dict:
