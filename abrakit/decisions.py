@@ -227,6 +227,15 @@ DECISIONS: tuple[Decision, ...] = (
              "a rigid disk touching one particle crushed the bonds under it at a tenth of the strength; a pad "
              "spreads the load as the paper's walls do, and a guide in y only is a frictionless roller",
              (BEND + "test_damage_starts_at_the_bottom_between_the_loading_rollers",), "four_point_bending", "choice"),
+    Decision("one fixture for both bending tests (issue 37, in progress)", "servo-controlled walls",
+             "fixture='rockers': rigid flat pads pivoting at the exact spans, one-sided, frictionless, the same for "
+             "the monotonic (displacement) and the cyclic (force) test; mid-span held in x by symmetry; cycles need "
+             "a seating load (load_min_ratio > 0); 'pads' stays the default until the benchmark is rerun",
+             "the pads fixture measures two specimens (E_f 1.80 GPa monotonic, 1.74–1.78 cyclic) and its supports "
+             "pull the beam down at its ends (160 N at P = 157 N); the rocker pads carry their resultants at x₀ "
+             "within 0.02 r, never pull, and give the same E_f in both tests (0.1 %)",
+             (BEND + "test_rocker_rollers_make_one_specimen_for_both_tests_at_the_exact_spans_and_never_pull",),
+             "four_point_bending", "choice"),
     Decision("FS_max of the beam", "1336.4 kPa with σ_t = c = 74 kPa (Table 2)", "Table 2 kept; FS_max ≈ 3 σ_t",
              "a section whose bonds cap tension at σ_t carries at most FS = 3 σ_t = 222 kPa; 1336 kPa is 18 σ_t, so "
              "the table's strengths or the thickness in Eq. (42) differ from what the text implies",

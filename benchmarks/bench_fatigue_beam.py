@@ -32,7 +32,7 @@ import numpy as np
 from _common import command_line, save_figure
 
 from abrakit.dem.fatigue_specimen import history_deviation
-from abrakit.experiments.bending import BeamSpec, cyclic_bending, four_point_beam, monotonic_bending
+from abrakit.experiments.bending import BeamSpec, cyclic_bending, flexural, four_point_beam, monotonic_bending
 from abrakit.experiments.sweeps import run_sweep
 from abrakit.io import CurveWriter, write_json
 
@@ -50,8 +50,7 @@ def monotonic_case(params: dict) -> dict:
     r = monotonic_bending(beam, record_every=200, drop=0.8)
     k = int(np.argmax(r["load"]))
     early = (np.arange(len(r["load"])) < k) & (r["load"] < 0.2 * r["load"][k]) & (r["deflection"] > 0)
-    modulus = float(np.median(23 * r["load"][early] * spec.span**3
-                              / (108 * r["deflection"][early] * spec.width * spec.height**3)))
+    modulus = float(np.median(flexural(r["load"][early], r["deflection"][early], spec)["modulus"]))
     cyclic = four_point_beam(spec, control="force")
     tic = time.perf_counter()
     cyclic_bending(cyclic, 0.5 * float(r["load"][k]), steps_per_cycle=2000, max_simulated=2)

@@ -31,6 +31,22 @@ def test_flexural_measures_are_eqs_42_to_44_and_invert_beam_theory():
     assert beam_theory_deflection(P, E, 0.2, spec) > 1.2 * delta             # S/H = 3: shear adds about 26 %
 
 
+def test_flexural_measures_use_the_fixtures_own_spans():
+    """Issue 37: Eqs. 42–44 hold for third-point loading only. At 70 mm roller spacing on the 150 mm span the
+    outer-fibre stress is 6 M/(W H²) with the moment M = P a/2 between the loading rollers, a = (S − s)/2 = 40 mm:
+    0.8 × P S/(W H²) (Eq. 42 would overstate it by 1.25 ×), and the modulus inverts the Euler–Bernoulli deflection
+    F a (3 S² − 4 a²)/(24 E I) of two loads F = P/2."""
+    spec = BeamSpec(roller_spacing=0.07)
+    P, E = 300.0, 1.7e9
+    a, S, W, H = 0.04, spec.span, spec.width, spec.height
+    assert flexural(P, 1e-4, spec)["stress"] == pytest.approx(6 * (P / 2 * a) / (W * H**2), rel=1e-12)
+    assert flexural(P, 1e-4, spec)["stress"] == pytest.approx(0.8 * P * S / (W * H**2), rel=1e-12)
+    delta = (P / 2) * a * (3 * S**2 - 4 * a**2) / (24 * E * W * H**3 / 12)
+    assert beam_theory_deflection(P, E, 0.2, spec, shear=False) == pytest.approx(delta, rel=1e-12)
+    f = flexural(P, delta, spec)
+    assert f["modulus"] == pytest.approx(E, rel=1e-12) and f["strain"] == pytest.approx(f["stress"] / E, rel=1e-12)
+
+
 def test_table_two_reading():
     p = table_two()
     assert (p.tensile_strength, p.cohesion, p.friction_angle, p.dilatancy_angle) == (74e3, 74e3, 20.0, 10.0)
@@ -48,8 +64,7 @@ def test_elastic_beam_modulus_is_timoshenkos_with_the_uniaxial_modulus_of_the_sa
     run = monotonic_bending(beam, record_every=500, max_deflection=2e-6)
     P, delta = run["load"][-1], run["deflection"][-1]
     measured = flexural(P, delta, spec)["modulus"]
-    predicted = P * 23 * spec.span**3 / (108 * spec.width * spec.height**3) / beam_theory_deflection(
-        P, material["E"], material["nu"], spec)
+    predicted = flexural(P, beam_theory_deflection(P, material["E"], material["nu"], spec), spec)["modulus"]
     assert measured == pytest.approx(predicted, rel=0.05)
     assert measured < 0.9 * material["E"]
     assert len(beam.sim.cracks) == 0 and beam.sim.fatigue_bonds.damage.max() == pytest.approx(0.01)
@@ -82,6 +97,30 @@ def test_cyclic_bending_degrades_the_modulus_and_reports_a_life():
     assert r["stopped"] == "life" and r["life"] == r["cycles"][-1] > r["simulated_cycles"]
     assert r["modulus"][-1] <= 0.5 * r["modulus"][0]
     assert np.all(np.diff(r["damaged"]) >= 0)
+
+
+def test_rocker_rollers_make_one_specimen_for_both_tests_at_the_exact_spans_and_never_pull():
+    """Issue 37: with rigid rocker pads (one-sided, frictionless, pivoting at the spans) the monotonic test under
+    displacement control and a quasi-static cycle under force control measure the same elastic E_f (within 1 %;
+    measured 0.1 %), every pad's resultant passes through its roller position, and no pad pulls. The old "pads"
+    fixture holds its support particles both ways: it pulls the beam down at its ends."""
+    beam = four_point_beam(COARSE, fixture="rockers")
+    beam.speed = 2.5e-4
+    beam.step(10_000)                                            # elastic: P ≈ 35 N, no bond beyond D₀
+    P, delta = beam.load(), beam.deflection()
+    rollers = beam.rollers
+    assert rollers.contact_total().min() > 0.2 * P / 2 and beam.pull == 0.0
+    assert np.allclose(rollers.centre_of_pressure(), rollers.x0, atol=0.02 * COARSE.radius)
+    assert beam.sim.fatigue_bonds.damage.max() == pytest.approx(0.01)
+    cyclic = cyclic_bending(four_point_beam(COARSE, fixture="rockers", control="force"), P, load_min_ratio=0.1,
+                            steps_per_cycle=8000, max_simulated=1)
+    assert cyclic["modulus"][0] == pytest.approx(flexural(P, delta, COARSE)["modulus"], rel=0.01)
+    pads = four_point_beam(COARSE)
+    pads.speed = 2.5e-4
+    pads.step(10_000)
+    assert pads.pull > 0.1 * pads.load()
+    with pytest.raises(ValueError, match="load_min_ratio"):
+        cyclic_bending(four_point_beam(COARSE, fixture="rockers", control="force"), P)
 
 
 def test_bad_beam_input_is_refused():

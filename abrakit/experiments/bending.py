@@ -13,8 +13,9 @@ The flexural stress, strain and modulus follow from the load P and the mid-span 
 
     FS = P S / (W H²),   ε_f = 108 H δ / (23 S²),   E_f = 23 P S³ / (108 δ W H³)
 
-which is Euler–Bernoulli beam theory for third-point loading. δ is the sinking of the bottom at mid-span relative
-to the supports.
+which is Euler–Bernoulli beam theory for third-point loading; :func:`flexural` evaluates the same theory for the
+spec's own span and roller spacing (any four-point fixture), which reduces to these at spacing S/3. δ is the
+sinking of the bottom at mid-span relative to the supports.
 
 Particles (``grading``):
 
@@ -44,6 +45,7 @@ from abrakit.dem.measure import relax
 from abrakit.dem.simulation import Simulation
 from abrakit.dem.state import Particles
 from abrakit.experiments.disk_packing import disk_packing, fuller_radii
+from abrakit.experiments.rollers import Rollers
 from abrakit.experiments.specimen import cache_dir
 from abrakit.fatigue.bond_law import BondParameters
 from abrakit.io import RunRecord, VtuSeries, load_state, save_state
@@ -97,11 +99,14 @@ class BeamSpec:
 
 @dataclass
 class Beam:
-    """A built beam: the simulation, the spec and the particles that stand for the rollers.
+    """A built beam: the simulation, the spec and what stands for the rollers.
 
-    ``supports``: bottom-row particles within ``pad``/2 of each support, held in y and free in x (a roller);
-    ``loading``: top-row particles within ``pad``/2 of each loading roller, kinematic (displacement control) or
-    carrying the load in equal shares (force control); ``mid_bottom``: bottom-row particles at mid-span."""
+    ``supports``: bottom-row particles within ``pad``/2 of each support; ``loading``: top-row particles within
+    ``pad``/2 of each loading roller; ``mid_bottom``: bottom-row particles at mid-span. With ``rollers`` None (the
+    "pads" fixture) the support particles are held in y and free in x, and the loading particles are kinematic
+    (displacement control) or carry the load in equal shares (force control). With :class:`Rollers` (the "rockers"
+    fixture) four rigid rocker pads act on the beam instead (supports fixed, loading pads prescribed or
+    force-driven): one-sided, frictionless, their resultants at the exact spans."""
 
     sim: Simulation
     spec: BeamSpec
@@ -109,30 +114,67 @@ class Beam:
     loading: np.ndarray
     mid_bottom: np.ndarray
     control: str
+    rollers: Rollers | None = None
 
     def __post_init__(self):
         self._y0 = self.sim.particles.x[:, 1].copy()
-        self.speed = 0.0            # of the loading particles under displacement control [m/s]
+        self.speed = 0.0            # of the loading particles (or pads) under displacement control [m/s]
         self._travel = 0.0
+        self.pull = 0.0             # the largest tension a roller exerted on the beam so far [N] (rockers: none)
+        x = self.sim.particles.x[self.mid_bottom, 0]
+        self._anchor = self.mid_bottom[np.argmin(np.abs(x - 0.5 * self.spec.length))]
+        self._x_anchor = float(self.sim.particles.x[self._anchor, 0])
 
     def load(self) -> float:
-        """Total load P [N] on the beam, positive downward: the force the guide exerts on the loading particles
-        (displacement control: minus the bonds' pull on them) or the applied force (force control)."""
+        """Total load P [N] on the beam, positive downward: under displacement control the force the loading
+        rollers exert (the rocker pads' contact forces, or the guide's force on the kinematic loading particles:
+        minus the bonds' pull on them), under force control the applied force."""
+        if self.rollers is not None:
+            if self.control == "force":
+                return float(-self.rollers.force[2:].sum())
+            return float(self.rollers.contact_total()[2:].sum())
         if self.control == "force":
             return float(-self.sim.applied_force[self.loading, 1].sum())
         return float(self.sim.particle_force[self.loading, 1].sum())
 
+    def set_load(self, load: float) -> None:
+        """Under force control: the total load P [N] (downward), shared equally by the two loading rollers (or,
+        with the "pads" fixture, by the loading particles)."""
+        if self.rollers is not None:
+            self.rollers.force[2:] = -0.5 * load
+        else:
+            self.sim.applied_force[self.loading, 1] = -load / len(self.loading)
+
     def deflection(self) -> float:
-        """Mid-span deflection δ [m], positive downward, relative to the supports."""
+        """Mid-span deflection δ [m], positive downward, relative to the supports (with rocker pads: to the beam's
+        particles on the support pads, weighted by their contact forces, so the contact's own compliance is not
+        counted)."""
         sink = self._y0 - self.sim.particles.x[:, 1]
-        return float(np.mean(sink[self.mid_bottom]) - np.mean(sink[self.supports]))
+        if self.rollers is None:
+            return float(np.mean(sink[self.mid_bottom]) - np.mean(sink[self.supports]))
+        pad, particle, _, f = self.rollers._contacts
+        on_support = pad < 2
+        support = (np.average(sink[particle[on_support]], weights=f[on_support]) if on_support.any()
+                   else np.mean(sink[self.supports]))
+        return float(np.mean(sink[self.mid_bottom]) - support)
 
     def step(self, steps: int = 1) -> None:
-        """Advance ``steps`` steps. Rollers guide in y only (free in x, frictionless): the supports are held, the
-        loading particles under displacement control sink at :attr:`speed`."""
+        """Advance ``steps`` steps. "pads": the rollers guide in y only (free in x, frictionless): the supports are
+        held, the loading particles under displacement control sink at :attr:`speed`. "rockers": the pads push the
+        particles they touch, then move under the reactions (:class:`~abrakit.experiments.rollers.Rollers`)."""
         p = self.sim.particles
         for _ in range(int(steps)):
+            if self.rollers is not None:
+                self.rollers.speed = self.speed
+                on_particles, reaction, moment = self.rollers.contact_forces(p.x, p.radius)
+                self.sim.applied_force[:, :2] = on_particles
+                self.sim.step()
+                self.rollers.advance(reaction, moment, self.sim.dt)
+                p.v[self._anchor, 0] = 0.0                    # mid-span: u_x = 0 by symmetry (no rigid drift)
+                p.x[self._anchor, 0] = self._x_anchor
+                continue
             self.sim.step()
+            self.pull = max(self.pull, float(np.max(-self.sim.particle_force[self.supports, 1], initial=0.0)))
             p.v[self.supports, 1] = 0.0
             p.x[self.supports, 1] = self._y0[self.supports]
             if self.control == "displacement":
@@ -204,15 +246,19 @@ def _bonded_sample(spec: BeamSpec, params, modulus, stiffness_ratio, local_dampi
 @number_arguments
 def four_point_beam(spec: BeamSpec | None = None, params: BondParameters | None = None, *,
                     control: str = "displacement", modulus: float = MODULUS, stiffness_ratio: float = STIFFNESS_RATIO,
-                    pad: float | None = None, local_damping: float = 0.7, safety: float = 0.8) -> Beam:
+                    pad: float | None = None, local_damping: float = 0.7, safety: float = 0.8,
+                    fixture: str = "pads") -> Beam:
     """Build the beam and its bonds; each roller acts on the particles within ``pad``/2 of it [m] (default: 10 mm,
     at least four radii).
 
-    ``control``: "displacement" (the loading particles move at a prescribed speed) or "force" (they carry
-    :attr:`Simulation.applied_force`)."""
+    ``control``: "displacement" (the loading rollers move at a prescribed speed) or "force" (they carry a
+    prescribed load, :meth:`Beam.set_load`). ``fixture``: "pads" (support particles held in y, loading particles
+    kinematic or sharing the load) or "rockers" (rigid rocker pads of length ``pad`` pivoting at the exact spans,
+    one-sided and frictionless, the same for both controls: :mod:`abrakit.experiments.rollers`)."""
     spec = BeamSpec() if spec is None else spec
     params = table_two() if params is None else params
     check_option("control", control, ("displacement", "force"))
+    check_option("fixture", fixture, ("pads", "rockers"))
     pad = max(0.01, 4.0 * spec.radius) if pad is None else check_positive("pad", pad)
     sim = _bonded_sample(spec, params, modulus, stiffness_ratio, local_damping, safety)
     xy, r = sim.particles.x[:, :2], sim.particles.radius
@@ -224,9 +270,18 @@ def four_point_beam(spec: BeamSpec | None = None, params: BondParameters | None 
     mid = under(bottom, centre)
     if min(len(supports), len(loading)) < 2 or len(mid) < 1:
         raise ValueError(f"pad = {pad:g} m covers too few particles at radius {spec.radius:g} m; widen it")
-    if control == "force":
+    if control == "force" or fixture == "rockers":
         sim.applied_force = np.zeros((len(sim.particles), 3))
-    return Beam(sim, spec, supports, loading, mid, control)
+    rollers = None
+    if fixture == "rockers":
+        x0 = np.array([centre - half_span, centre + half_span, centre - half_spacing, centre + half_spacing])
+        mode = ("fixed", "fixed") + (("prescribed",) * 2 if control == "displacement" else ("force",) * 2)
+        mass = np.full(4, sim.particles.mass[np.concatenate([supports, loading])].sum() / 4)
+        rollers = Rollers(x0, np.zeros(4), np.array([1.0, 1.0, -1.0, -1.0]), mode, pad, modulus * spec.width, mass,
+                          local_damping)
+        rollers.seat(xy, r, np.array([bottom, bottom, top, top]))
+        rollers.contact_forces(xy, r)
+    return Beam(sim, spec, supports, loading, mid, control, rollers)
 
 
 def _faces(y, radius):
@@ -236,27 +291,39 @@ def _faces(y, radius):
     return (y - radius < np.min(y - radius) + tolerance), (y + radius > np.max(y + radius) - tolerance)
 
 
+def _shear_span(spec: BeamSpec) -> float:
+    """The shear span a = (S − s)/2: the distance from a support to the nearer loading roller [m]."""
+    return 0.5 * (spec.span - spec.roller_spacing)
+
+
 @number_arguments
 def flexural(load: ArrayLike, deflection: ArrayLike, spec: BeamSpec) -> dict:
-    """Flexural stress, strain and modulus from the load P [N] and deflection δ [m] (seed 002 Eqs. 42–44)."""
+    """Flexural stress, strain and modulus from the load P [N] and the mid-span deflection δ [m] of four-point
+    bending with the spec's span S and roller spacing s, shear span a = (S − s)/2 (Euler–Bernoulli):
+
+        FS = 3 P a / (W H²),   ε_f = 12 H δ / (3 S² − 4 a²),   E_f = P a (3 S² − 4 a²) / (4 δ W H³)
+
+    For third-point loading (s = S/3, the paper's fixture) they are seed 002 Eqs. 42–44: FS = P S/(W H²),
+    ε_f = 108 H δ/(23 S²), E_f = 23 P S³/(108 δ W H³)."""
     P, d = np.asarray(load, float), np.asarray(deflection, float)
-    S, W, H = spec.span, spec.width, spec.height
+    S, W, H, a = spec.span, spec.width, spec.height, _shear_span(spec)
+    shape = 3.0 * S**2 - 4.0 * a**2
     with np.errstate(divide="ignore", invalid="ignore"):
-        modulus = 23.0 * P * S**3 / (108.0 * d * W * H**3)
-    return {"stress": P * S / (W * H**2), "strain": 108.0 * H * d / (23.0 * S**2), "modulus": modulus}
+        modulus = P * a * shape / (4.0 * d * W * H**3)
+    return {"stress": 3.0 * P * a / (W * H**2), "strain": 12.0 * H * d / shape, "modulus": modulus}
 
 
 @number_arguments
 def beam_theory_deflection(load: ArrayLike, modulus: float, poisson: float, spec: BeamSpec, *, shear: bool = True
                            ) -> float:
-    """Mid-span deflection of third-point bending [m]: Euler–Bernoulli 23 P S³/(108 E W H³) (the inverse of Eq. 44)
-    plus, with ``shear``, Timoshenko's shear part P a/(2 κ G W H) with a = (S − spacing)/2, κ = 5/6 and
-    G = E/(2(1 + ν)) (2D plane stress). For S/H = 3 the shear part adds about a quarter."""
-    S, W, H = spec.span, spec.width, spec.height
-    bending = 23.0 * load * S**3 / (108.0 * modulus * W * H**3)
+    """Mid-span deflection of four-point bending [m]: Euler–Bernoulli P a (3 S² − 4 a²)/(4 E W H³) with the shear
+    span a = (S − s)/2 (the inverse of :func:`flexural`'s modulus; 23 P S³/(108 E W H³) for third-point loading)
+    plus, with ``shear``, Timoshenko's shear part P a/(2 κ G W H) with κ = 5/6 and G = E/(2(1 + ν)) (2D plane
+    stress). For S/H = 3 the shear part adds about a quarter."""
+    S, W, H, a = spec.span, spec.width, spec.height, _shear_span(spec)
+    bending = load * a * (3.0 * S**2 - 4.0 * a**2) / (4.0 * modulus * W * H**3)
     if not shear:
         return bending
-    a = 0.5 * (S - spec.roller_spacing)
     G = modulus / (2.0 * (1.0 + poisson))
     return bending + load * a / (2.0 * 5.0 / 6.0 * G * W * H)
 
@@ -339,10 +406,15 @@ def cyclic_bending(beam: Beam, load_max: float, *, load_min_ratio: float = 0.0, 
     sim = beam.sim
     if beam.control != "force":
         raise ValueError("cyclic_bending needs a beam built with control='force'")
+    if beam.rollers is not None and load_min_ratio <= 0.0:
+        raise ValueError("load_min_ratio must be > 0 with the 'rockers' fixture: one-sided rollers need a seating "
+                         "load, or the unloaded beam leaves its supports (0.1, R = 0.1, is usual)")
     columns = ("cycles", "modulus", "deflection", "residual", "damaged", "yielding", "broken")
     saved = None if checkpoint is None else load_state(checkpoint)
     if saved is not None:
         sim.restore(saved["sim"])
+        if beam.rollers is not None:
+            beam.rollers.restore(saved["rollers"])
     record = RunRecord(columns, csv, None if saved is None else saved["record"])
     cycles = record.data["cycles"][-1] if len(record) else 0
     series = None if vtu is None else VtuSeries(vtu, "bonds")
@@ -354,11 +426,10 @@ def cyclic_bending(beam: Beam, load_max: float, *, load_min_ratio: float = 0.0, 
     phase = np.arange(1, steps_per_cycle + 1) / steps_per_cycle
     profile = load_min_ratio + (1.0 - load_min_ratio) * 0.5 * (1.0 - np.cos(2.0 * np.pi * phase))
     peak_step = steps_per_cycle // 2 - 1
-    share = 1.0 / len(beam.loading)
     while cycles < max_cycles:
         before = sim.fatigue_bonds.damage.copy()
         for k, level in enumerate(profile):
-            sim.applied_force[beam.loading, 1] = -share * load_max * level
+            beam.set_load(load_max * level)
             beam.step()
             if k == peak_step:
                 d_peak = beam.deflection()
@@ -378,7 +449,8 @@ def cyclic_bending(beam: Beam, load_max: float, *, load_min_ratio: float = 0.0, 
         if not ended and len(before) == len(sim.fatigue_bonds) and np.array_equal(before, sim.fatigue_bonds.damage):
             ended = "shakedown"              # a cycle that changed no damage repeats itself: nothing grows
         if checkpoint is not None:
-            save_state(checkpoint, {"sim": sim.snapshot(), "record": record.data, "stopped": ended})
+            save_state(checkpoint, {"sim": sim.snapshot(), "record": record.data, "stopped": ended,
+                                    "rollers": None if beam.rollers is None else beam.rollers.state()})
         if ended:
             stopped = ended
             break
