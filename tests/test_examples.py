@@ -72,7 +72,10 @@ def test_dem_example_is_on_the_closed_forms(tmp_path):
     assert (tmp_path / "impact.csv").read_text().count("\n") == 5
 
 
+@pytest.mark.slow
 def test_dem_identification_example_measures_e_below_eq_5_20(tmp_path, monkeypatch):
+    """A fresh specimen genesis and elastic test (about 35 s): a study, run with ``pytest -m slow``; the chapter
+    "Parameter identification in practice" executes the same elastic test on every book build."""
     monkeypatch.setenv("ABRAKIT_CACHE", str(tmp_path / "cache"))          # not the user's specimen cache
     rows = load("dem_identification").main(tmp_path)
     for row in rows.values():                    # the measured E lies below both forms of Eq. (5.20), nu near 0.25
