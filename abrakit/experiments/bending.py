@@ -152,10 +152,9 @@ class Beam:
         sink = self._y0 - self.sim.particles.x[:, 1]
         if self.rollers is None:
             return float(np.mean(sink[self.mid_bottom]) - np.mean(sink[self.supports]))
-        pad, particle, _, f = self.rollers._contacts
-        on_support = pad < 2
-        support = (np.average(sink[particle[on_support]], weights=f[on_support]) if on_support.any()
-                   else np.mean(sink[self.supports]))
+        support = self.rollers.contact_mean(sink, (0, 1))
+        if np.isnan(support):
+            support = np.mean(sink[self.supports])
         return float(np.mean(sink[self.mid_bottom]) - support)
 
     def step(self, steps: int = 1) -> None:

@@ -70,7 +70,7 @@ class Rollers:
         check_range("alpha", self.alpha, 0.0, 1.0, high_open=True)
         n = len(self.mode)
         self.y0 = self.y.copy()
-        self.theta, self.omega, self.vy = np.zeros(n), np.zeros(n), np.zeros(n)
+        self.theta, self.vy = np.zeros(n), np.zeros(n)
         inertia = self.mass * self.pad**2 / 12.0
         self.rotational_damping = 2.0 * np.sqrt(self.k * (0.5 * self.pad) ** 2 * inertia)
         self.force = np.zeros(n)
@@ -94,7 +94,7 @@ class Rollers:
                 raise ValueError(f"no particle lies under the face of roller {k} at x = {self.x0[k]:g} m; widen pad")
             side = self.side[k]
             points = np.column_stack([x[under, 0], side * (x[under, 1] - side * radius[under])])  # lower hull
-            slope, _ = _hull_line(points, self.x0[k])
+            slope = _hull_slope(points, self.x0[k])
             self.theta[k] = theta = np.arctan(side * slope)
             nx, ny = -side * np.sin(theta), side * np.cos(theta)           # the face's normal, into the beam
             lift = x[under, 1] + ((x[under, 0] - self.x0[k]) * nx - radius[under]) / ny   # exact: touch, no overlap
@@ -133,6 +133,13 @@ class Rollers:
         with np.errstate(invalid="ignore", divide="ignore"):
             return self.x0 + np.cos(self.theta) * arm / total
 
+    def contact_mean(self, values, pads) -> float:
+        """The mean of the per-particle ``values`` (N,) over the last contacts of the ``pads`` (indices), weighted
+        by their contact forces; NaN where those pads touch nothing."""
+        pad_index, particle, _, f = self._contacts
+        on = np.isin(pad_index, pads)
+        return float(np.average(values[particle[on]], weights=f[on])) if on.any() else float("nan")
+
     def contact_total(self) -> np.ndarray:
         """Per pad, the sum of its last contact forces' magnitudes [N] (never negative: the pads only push)."""
         pad_index, _, _, f = self._contacts
@@ -142,13 +149,11 @@ class Rollers:
     def advance(self, reaction, moment, dt: float) -> None:
         """Move the pads over one step ``dt`` under the reactions of :meth:`contact_forces`: rotations always,
         vertical motion by mode (semi-implicit Euler, the particles' leap-frog, with local damping)."""
-        self.omega = moment / self.rotational_damping          # a massless rocker on a viscous pivot
-        self.theta += self.omega * dt
+        self.theta += moment / self.rotational_damping * dt     # a massless rocker on a viscous pivot
         for k, mode in enumerate(self.mode):
             if mode == "fixed":
                 continue
             if mode == "prescribed":
-                self.vy[k] = -self.speed
                 self.y[k] = self.y0[k] - self.travel - self.speed * dt
                 continue
             fy = self.force[k] + reaction[k, 1]
@@ -159,7 +164,7 @@ class Rollers:
 
     def state(self) -> dict:
         """What a checkpoint needs to continue the pads' motion exactly."""
-        return {"y": self.y.copy(), "theta": self.theta.copy(), "omega": self.omega.copy(), "vy": self.vy.copy(),
+        return {"y": self.y.copy(), "theta": self.theta.copy(), "vy": self.vy.copy(),
                 "force": self.force.copy(), "speed": self.speed, "travel": self.travel}
 
     def restore(self, state: dict) -> None:
@@ -167,10 +172,10 @@ class Rollers:
             setattr(self, name, value.copy() if isinstance(value, np.ndarray) else value)
 
 
-def _hull_line(points: np.ndarray, x0: float) -> tuple[float, float]:
-    """Slope and height at ``x0`` of the line that supports ``points`` (M, 2) from below at x₀: the edge of their
-    lower convex hull above x₀; where a hull vertex lies at x₀, the level line if it supports them, else the
-    nearer of the vertex's two edges; where the hull does not span x₀ (one point), level through its lowest."""
+def _hull_slope(points: np.ndarray, x0: float) -> float:
+    """Slope of the line that supports ``points`` (M, 2) from below at ``x0``: the edge of their lower convex hull
+    above x₀; where a hull vertex lies at x₀, level if that supports them, else the nearer of the vertex's two
+    edges; level where the hull does not span x₀ (one point)."""
     pts = points[np.lexsort((points[:, 1], points[:, 0]))]
     hull = []
     for q in pts:                                         # Andrew's monotone chain, lower half
@@ -178,15 +183,14 @@ def _hull_line(points: np.ndarray, x0: float) -> tuple[float, float]:
             hull.pop()
         hull.append(q)
     hull = np.array(hull)
-    slopes = np.diff(hull[:, 1]) / np.diff(hull[:, 0])
     tol = 1e-12 * max(1.0, abs(x0))
     if len(hull) == 1 or not hull[0, 0] - tol <= x0 <= hull[-1, 0] + tol:
-        return 0.0, float(points[:, 1].min())
+        return 0.0
+    slopes = np.diff(hull[:, 1]) / np.diff(hull[:, 0])
     at = np.flatnonzero(np.abs(hull[:, 0] - x0) <= tol)
     if at.size:
         v = int(at[0])
         low = slopes[v - 1] if v > 0 else -np.inf
         high = slopes[v] if v < len(slopes) else np.inf
-        return float(np.clip(0.0, low, high)), float(hull[v, 1])
-    k = int(np.searchsorted(hull[:, 0], x0))
-    return float(slopes[k - 1]), float(hull[k - 1, 1] + slopes[k - 1] * (x0 - hull[k - 1, 0]))
+        return float(np.clip(0.0, low, high))
+    return float(slopes[int(np.searchsorted(hull[:, 0], x0)) - 1])
