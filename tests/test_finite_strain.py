@@ -361,3 +361,15 @@ def test_compiled_fbar_state_and_tangents_equal_the_numpy_ones():
     K_numpy = kin.element_tangents(r.tangent, r.stress, u, compiled=False)
     K_numba = kin.element_tangents(r.tangent, r.stress, u, compiled=True)
     assert np.abs(K_numba - K_numpy).max() <= 1e-12 * np.abs(K_numpy).max()
+
+
+def test_compiled_fbar_forces_equal_the_numpy_ones():
+    axis = np.linspace(0.0, 1.0, 4)
+    graded = np.array([0.0, 0.1, 0.35, 1.0])
+    kin = Kinematics.from_basis(vector_basis(skfem.MeshHex.init_tensor(axis, graded, axis)), bbar=True,
+                                finite_strain=True)
+    u = 0.02 * np.random.default_rng(9).standard_normal(kin.ndof)
+    r = PLASTIC.update(PLASTIC.initial_state((kin.nel, kin.nqp)), kin.strain(u))
+    f_numpy = kin.element_forces(r.stress, u, compiled=False)
+    f_numba = kin.element_forces(r.stress, u, compiled=HAVE_NUMBA)
+    assert np.abs(f_numba - f_numpy).max() <= 1e-12 * np.abs(f_numpy).max()

@@ -26,6 +26,7 @@ from abrakit.scratch.scene import (
 
 TINY_BLOCK = (0.06, 0.015, 0.08)               # full width, thickness, length (mm): enough for d <= 1 um
 TINY_MESH = SpecimenMesh(h=0.003, h_z=0.004, h_y=0.001, growth=1.6, width=1.6)
+RTOL_REUSE = 0.01        # reused element tangents against the full tangent: forces and areas 1 %, f_ab 0.01
 
 
 # ---- mesh and surface --------------------------------------------------------------------------------------------
@@ -518,3 +519,39 @@ def test_the_faster_increment_control_changes_no_groove_beyond_its_tolerances(mo
     for r in (new, old):
         assert abs(r.budget.residual) <= 1e-9 * r.budget.groove
     assert new.budget.groove == pytest.approx(old.budget.groove, rel=0.02)
+
+
+def test_reused_element_tangents_change_no_groove_beyond_the_newton_tolerance():
+    """SCRATCH_NEWTON keeps the element tangents of elements whose F moved by less than 1e-4 and that do not
+    yield (abrakit.fem.tangent_reuse): the residual is exact, so the scratch converges to the same grooves as with
+    the full tangent, within the spread that the Newton tolerance leaves on a path-dependent scene (measured: F_N
+    0.2 %, F_T 0.5 %, A_g 0.1 %, f_ab 0.001 apart; 166 against 175 iterations), in about as many iterations."""
+    from dataclasses import replace
+
+    from abrakit.scratch.scene import SCRATCH_NEWTON
+
+    scene = ScratchScene(depth=0.0008, slide=0.016, mesh=TINY_MESH, size=TINY_BLOCK, unload_steps=2)
+    kept = run_scratch(scene, vtu_every=0, linear_solver="lu")
+    full = run_scratch(scene, vtu_every=0, linear_solver="lu", newton=replace(SCRATCH_NEWTON, tangent_reuse=None))
+    assert kept.newton_iterations <= 1.1 * full.newton_iterations
+    assert kept.mean_normal_force == pytest.approx(full.mean_normal_force, rel=RTOL_REUSE)
+    assert kept.mean_tangential_force == pytest.approx(full.mean_tangential_force, rel=RTOL_REUSE)
+    for g_kept, g_full in ((kept.groove_loaded, full.groove_loaded), (kept.groove_unloaded, full.groove_unloaded)):
+        assert g_kept.groove_area == pytest.approx(g_full.groove_area, rel=RTOL_REUSE)
+        assert g_kept.degree_of_wear == pytest.approx(g_full.degree_of_wear, abs=RTOL_REUSE)
+    assert abs(kept.budget.residual) <= 1e-9 * kept.budget.groove
+
+
+def test_the_slide_mean_weighs_the_groove_by_distance_not_by_increments():
+    from abrakit.scratch.record import slide_mean
+
+    z = np.array([0.0, 1.0, 1.25, 1.5, 1.75, 2.0, 3.0])          # a cutback put four short increments in [1, 2]
+    f = np.where((z > 1.0) & (z < 2.0), 5.0, 1.0)
+    assert slide_mean(z, np.full(z.size, 2.0)) == pytest.approx(2.0)
+    # trapezoids: 1 + 0.75 + 1.25 + 1.25 + 0.75 + 1 = 6 over 3 units of slide; per increment 19/7
+    assert slide_mean(z, f) == pytest.approx(2.0)
+    assert f.mean() == pytest.approx(19 / 7)
+    assert np.isnan(slide_mean(np.zeros(0), np.zeros(0)))
+    assert slide_mean(np.array([1.0]), np.array([4.0])) == 4.0
+    with pytest.raises(ValueError, match="slide and values"):
+        slide_mean(z, f[:-1])

@@ -29,11 +29,12 @@ from .pathfollow import (
     PathFollowingSolver,
 )
 from .solver import NewtonOptions, Solver, SolveResult, StepContext, StepControl, StepFailed, solve
+from .tangent_reuse import ElementTangentReuse
 
 __all__ = [
     "AMGSolver", "ArcLength", "Assembler", "Constraints", "Dirichlet", "DirectSolver", "DissipationControl",
-    "Kinematics", "LinearSolveError", "LoadFactorControl", "NewtonOptions", "OpeningControl", "PathControl",
-    "PathFollowingSolver", "SolveResult", "Solver", "StepContext", "StepControl", "StepFailed",
+    "ElementTangentReuse", "Kinematics", "LinearSolveError", "LoadFactorControl", "NewtonOptions", "OpeningControl",
+    "PathControl", "PathFollowingSolver", "SolveResult", "Solver", "StepContext", "StepControl", "StepFailed",
     "TotalLagrangianKinematics", "boundary_dofs", "demo", "load_checkpoint", "meshes", "node_row_dofs",
     "pardiso_available", "skfem_internal_force", "skfem_tangent", "solve", "surface_load", "vector_basis",
 ]

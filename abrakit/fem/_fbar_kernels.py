@@ -147,3 +147,24 @@ def element_tangents(grad_N, dx, F, J, J_bar, alpha, m, h, Gtg, A, P):  # pragma
                 for col in range(nbf):
                     Ke[r, col] -= c * m[e, r] * m[e, col]
     return K
+
+
+@njit(cache=True, parallel=True)
+def element_forces(grad_N, dx, F, alpha, h, P):  # pragma: no cover - compiled
+    """The F-bar element forces ∫ B̄ᵀ P dV_0 = Σ_q α dV_0 [Gᵀp + (s/3) h], s = F : P, ``(nel, nbf)``, of
+    :meth:`~abrakit.fem.kinematics.FBarKinematics.element_forces` (P as 9-vectors, row-major iJ)."""
+    nel, nqp, nnode, dim = grad_N.shape
+    out = np.zeros((nel, 3 * nnode))
+    for e in prange(nel):
+        for q in range(nqp):
+            w = dx[e, q] * alpha[e, q]
+            Pq, Fq, N = P[e, q], F[e, q], grad_N[e, q]
+            s = 0.0
+            for I in range(9):
+                s += Fq[I // 3, I % 3] * Pq[I]
+            for a in range(nnode):
+                for i in range(3):
+                    r = 3 * a + i
+                    t = Pq[3 * i] * N[a, 0] + Pq[3 * i + 1] * N[a, 1] + Pq[3 * i + 2] * N[a, 2]
+                    out[e, r] += w * (t + s / 3.0 * h[e, q, r])
+    return out

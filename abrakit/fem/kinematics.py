@@ -398,39 +398,46 @@ class FBarKinematics(TotalLagrangianKinematics):
     def _dx_c(self) -> np.ndarray:
         return np.ascontiguousarray(self.dx, dtype=float)
 
-    def _b_bar(self, st: FBarState) -> np.ndarray:
-        """B̄ = α [G + ⅓ f ⊗ h], δF̄ = B̄ δu, ``(nel, nqp, 9, nbf)`` (formed for the tangent only)."""
-        f = st.F.reshape(self.nel, self.nqp, 9)
-        return st.alpha[..., None, None] * (self.gradient_operator + f[..., :, None] * st.h[..., None, :] / 3.0)
-
     def strain(self, u: np.ndarray) -> np.ndarray:
         """F̄ = (J̄/J)^{1/3} F as 9-vectors, ``(nel, nqp, 9)``."""
         st = self.fbar_state(u)
         return (st.alpha[..., None, None] * st.F).reshape(self.nel, self.nqp, 9)
 
-    def element_forces(self, stress: np.ndarray, u: np.ndarray | None = None) -> np.ndarray:
+    def element_forces(self, stress: np.ndarray, u: np.ndarray | None = None,
+                       compiled: bool | None = None) -> np.ndarray:
+        """∫_e B̄ᵀ P dV_0 for every element, ``(nel, nbf)``; ``compiled`` (default: where numba is installed) by
+        :func:`abrakit.fem._fbar_kernels.element_forces`, else vectorised NumPy (same numbers, tested)."""
         if u is None:
             raise ValueError("F-bar element forces need the displacement u")
         st = self.fbar_state(u)
+        if HAVE_NUMBA if compiled is None else compiled:
+            return _fbar_kernels.element_forces(self._grad_N_c, self._dx_c, st.F, st.alpha, st.h,
+                                                np.ascontiguousarray(stress, dtype=float))
         s = np.einsum("eqm,eqm->eq", st.F.reshape(self.nel, self.nqp, 9), stress)    # B̄ᵀp = α [Gᵀp + (s/3) h]
         Gtp = self.gradient_transpose(stress.reshape(self.nel, self.nqp, 3, 3))
         return np.einsum("eq,eqb->eb", self.dx * st.alpha, Gtp + (s / 3.0)[..., None] * st.h)
 
     def element_tangents(self, tangent: np.ndarray, stress: np.ndarray, u: np.ndarray,
-                         compiled: bool | None = None) -> np.ndarray:
+                         compiled: bool | None = None, elements: np.ndarray | None = None) -> np.ndarray:
         """The exact element tangents of the F-bar force, ``(nel, nbf, nbf)`` (class docstring); ``compiled``
         (default: where numba is installed) by :func:`abrakit.fem._fbar_kernels.element_tangents` (5× faster on
-        the scratch), else vectorised NumPy (same numbers to round-off, tested)."""
+        the scratch), else vectorised NumPy (same numbers to round-off, tested). ``elements`` (indices): the
+        tangents of these elements only, ``(n, nbf, nbf)``, with ``tangent`` and ``stress`` given for them alone."""
         st = self.fbar_state(u)
+        grad_N, dx, G = self._grad_N_c, self._dx_c, None
+        if elements is not None:
+            elements = np.asarray(elements)
+            st = FBarState(*(np.ascontiguousarray(field[elements]) for field in st))
+            grad_N, dx = np.ascontiguousarray(grad_N[elements]), np.ascontiguousarray(dx[elements])
         if HAVE_NUMBA if compiled is None else compiled:
             return _fbar_kernels.element_tangents(
-                self._grad_N_c, self._dx_c, st.F, st.J, st.J_bar, st.alpha, st.m, st.h, st.Gtg,
+                grad_N, dx, st.F, st.J, st.J_bar, st.alpha, st.m, st.h, st.Gtg,
                 np.ascontiguousarray(tangent, dtype=float), np.ascontiguousarray(stress, dtype=float))
-        G, dx = self.gradient_operator, self.dx
-        nel, nqp, nbf = self.nel, self.nqp, self.nbf
+        G = self.gradient_operator if elements is None else self.gradient_operator[elements]
+        nel, nqp, nbf = dx.shape[0], self.nqp, self.nbf
         p = stress
         s = np.einsum("eqm,eqm->eq", st.F.reshape(nel, nqp, 9), p)
-        Gtp = self.gradient_transpose(p.reshape(nel, nqp, 3, 3))
+        Gtp = np.matmul(grad_N, np.swapaxes(p.reshape(nel, nqp, 3, 3), -1, -2)).reshape(nel, nqp, nbf)
         X = Gtp + (s / 3.0)[..., None] * st.h
         w = dx * st.alpha / 3.0
 
@@ -440,7 +447,8 @@ class FBarKinematics(TotalLagrangianKinematics):
         def outer_sum(weight, a, b):                # Σ_q weight a ⊗ b over (nel, nqp, nbf) vectors
             return np.matmul((a * weight[..., None]).transpose(0, 2, 1), b)
 
-        B_bar = self._b_bar(st)
+        f = st.F.reshape(nel, nqp, 9)               # B̄ = α [G + ⅓ f ⊗ h]
+        B_bar = st.alpha[..., None, None] * (G + f[..., :, None] * st.h[..., None, :] / 3.0)
         K = gram(B_bar, np.matmul(tangent * dx[..., None, None], B_bar))
         K += outer_sum(w, X, st.h) + outer_sum(w, st.h, Gtp)
         # D[(iJ), (Lk)] = −F⁻¹_ki F⁻¹_JL: the derivative of vec F⁻ᵀ by vec F

@@ -40,9 +40,10 @@ from ..materials.base import Material
 from ..validation import all_finite, check_number_fields, check_positive, check_range
 from .assembly import Assembler
 from .boundary import Constraints, Dirichlet
-from .kinematics import Kinematics
+from .kinematics import FBarKinematics, Kinematics
 from .linsolve import DirectSolver, LinearSolveError, make_linear_solver, rigid_body_modes
 from .output import RunWriter, load_matching_checkpoint
+from .tangent_reuse import ElementTangentReuse
 
 __all__ = ["NewtonFailure", "NewtonOptions", "SolveResult", "Solver", "StepContext", "StepControl", "StepFailed",
            "solve"]
@@ -88,9 +89,12 @@ class NewtonOptions:
     divergence_check_after: int = 4
     stabilization: float = 1e-9   # floor of the tangent diagonal, relative to its largest entry
     chord_check: bool = True      # a converged residual's increment test by a chord step (see Solver.newton)
+    tangent_reuse: float | None = None   # F-bar: keep element tangents where F moved less (ElementTangentReuse)
 
     def __post_init__(self):
         check_number_fields(self)
+        if self.tangent_reuse is not None:
+            check_positive("tangent_reuse", self.tangent_reuse, allow_zero=True)
         for name in ("residual_tol", "increment_tol", "exact_tol", "absolute_force"):
             check_positive(name, getattr(self, name))
         check_range("max_iterations", self.max_iterations, 1, None)
@@ -383,7 +387,7 @@ class Solver:
         ``full=False``: K itself is not built (None) where K_II can be taken from the values directly, as a
         Newton correction without a prescribed increment needs only K_II."""
         cons = self.constraints
-        data = self.assembler.tangent_data(response.tangent, u, response.stress)
+        data = self._tangent_values(response, u)
         # extra terms inside the mesh's pattern (contact blocks on its nodes) keep the pattern, and with it the
         # linear solver's symbolic analysis; others fall back to a general sparse sum
         outside = [K for K in extra_K if not self.assembler.add_into(data, K)]
@@ -406,6 +410,18 @@ class Solver:
             else:                                  # K_II's values are its own (condense_values gathers them)
                 K_II.data[diag_pos] = np.where(np.abs(diagonal) < floor, floor, diagonal)
         return K, K_II
+
+    def _tangent_values(self, response, u) -> np.ndarray:
+        """The global tangent's values in the assembler's pattern; with ``NewtonOptions(tangent_reuse=tol)``
+        on F-bar kinematics, element tangents are kept where F moved less than tol and nothing yields
+        (:class:`~abrakit.fem.tangent_reuse.ElementTangentReuse`)."""
+        tol = self.newton_options.tangent_reuse
+        if tol is not None and isinstance(self.kin, FBarKinematics) and ElementTangentReuse.applies(response):
+            reuse = getattr(self, "_reuse", None)
+            if reuse is None or reuse.tolerance != tol:
+                reuse = self._reuse = ElementTangentReuse(self.assembler, tol)
+            return reuse.data(response, u)
+        return self.assembler.tangent_data(response.tangent, u, response.stress)
 
     def solve_linear(self, K_II, rhs: np.ndarray, new_step: bool) -> np.ndarray:
         """x with K_II x = rhs for ``rhs`` ``(n,)`` or ``(n, k)`` (several right-hand sides, one factorisation

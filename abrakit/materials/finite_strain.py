@@ -105,16 +105,31 @@ def _tangent(F_inv, Q, lam, D, P):
 class DeferredTangentResponse:
     """A :class:`~abrakit.materials.MaterialResponse` whose tangent is computed on first access: the Newton
     solver never reads it at the converged iterate nor at rejected line-search trials, where it would be most
-    of the cost of a finite-strain update."""
+    of the cost of a finite-strain update.
 
-    def __init__(self, stress: np.ndarray, state: dict, tangent: Callable[[], np.ndarray]):
+    ``tangent_of(elements)`` gives the tangent of the points of the selected elements only (the first axis of
+    the point array), computed for them alone where ``partial`` is given (the compiled update), else sliced from
+    the whole tangent; ``yielding`` flags the points that flowed plastically in this update (their tangent is the
+    algorithmic one; elsewhere it is the elastic tangent at F). Both serve
+    :class:`~abrakit.fem.tangent_reuse.ElementTangentReuse`."""
+
+    def __init__(self, stress: np.ndarray, state: dict, tangent: Callable[[], np.ndarray],
+                 partial: Callable[[np.ndarray], np.ndarray] | None = None, yielding: np.ndarray | None = None):
         self.stress = stress
         self.state = state
         self._tangent = tangent
+        self._partial = partial
+        self.yielding = yielding
 
     @cached_property
     def tangent(self) -> np.ndarray:
         return self._tangent()
+
+    def tangent_of(self, elements: np.ndarray) -> np.ndarray:
+        """The tangent of the points of ``elements`` (indices into the first axis), ``(n, ..., 9, 9)``."""
+        if self._partial is None or "tangent" in self.__dict__:
+            return self.tangent[elements]
+        return self._partial(np.asarray(elements))
 
 
 @njit(cache=True, parallel=True)
@@ -277,8 +292,12 @@ class LogStrainPlasticity:
             new_state["Cp_inv"] = state["Cp_inv"]
 
         P = T.from_mandel(tau) @ F_inv_T
+        yielding = None                  # damage: its growth changes the tangent too; no element tangent is reused
+        if not self.damaged:
+            yielding = (new_state["alpha_p"] > state["alpha_p"]) if self.plastic else np.zeros(shape, dtype=bool)
         return DeferredTangentResponse(P.reshape(*shape, 9), new_state,
-                                       lambda: material_tangent(F_inv, Q, lam, response.tangent, P))
+                                       lambda: material_tangent(F_inv, Q, lam, response.tangent, P),
+                                       yielding=yielding)
 
     def _update_compiled(self, state, F) -> DeferredTangentResponse:
         """:meth:`update` by :func:`~abrakit.materials._finite_strain_kernels.log_strain_update` (same formulas)."""
@@ -306,9 +325,20 @@ class LogStrainPlasticity:
                      "Cp_inv": Cp_new.reshape(*shape, 3, 3) if plastic else state["Cp_inv"]}
         if plastic:
             new_state.update(alpha_p=alpha_new.reshape(shape), dissipation=dissipation_new.reshape(shape))
+
+        def of(*arrays, elements):                  # the points of the selected elements (first axis of shape)
+            return [np.ascontiguousarray(a.reshape(*shape, *a.shape[1:])[elements].reshape(-1, *a.shape[1:]))
+                    for a in arrays]
+
+        def partial(elements):
+            picked = _kernels.log_strain_tangent(*of(F_inv, Q, lam, D, P, elements=elements))
+            return picked.reshape(len(elements), *shape[1:], 9, 9)
+
+        yielding = (alpha_new > alpha_p).reshape(shape) if plastic else np.zeros(shape, dtype=bool)
         return DeferredTangentResponse(
             P.reshape(*shape, 9), new_state,
-            lambda: _kernels.log_strain_tangent(F_inv, Q, lam, D, P).reshape(*shape, 9, 9))
+            lambda: _kernels.log_strain_tangent(F_inv, Q, lam, D, P).reshape(*shape, 9, 9),
+            partial=partial if len(shape) > 1 else None, yielding=yielding)
 
     @property
     def d_max(self) -> float:

