@@ -33,6 +33,7 @@ from _common import RESULTS, command_line, save_figure
 from abrakit.fem import StepFailed
 from abrakit.io import CurveWriter, read_curve, read_json, write_json
 from abrakit.scratch.budget import steady_rates
+from abrakit.scratch.record import slide_mean
 from abrakit.scratch.scene import DEMO_SCENE, ScratchScene, build_specimen, groove_along, run_scratch
 
 TARGETS_S = {"default": 300.0, "coarse_long": 240.0, "demo_scene": 30.0}
@@ -88,7 +89,7 @@ def row_of(name: str, scene: ScratchScene, summary: dict, folder: Path) -> dict:
         **{k: summary.get(k, np.nan) for k in ("dofs", "increments", "newton_iterations", "cutbacks",
                                                 "wall_time_s")},
         "target_s": TARGETS_S.get(name, np.nan), "status": summary["status"],
-        "F_N": float(curves["normal_force"][second_half].mean()) if np.any(second_half) else np.nan,
+        "F_N": slide_mean(curves["slide"][second_half], curves["normal_force"][second_half]),
         "A_g_um2": groove.get("A_g_um2", np.nan), "f_ab_rates": rates, "f_ab_rates_last_quarter": last_quarter,
         "f_ab_sections": float(np.mean(wake)) if wake.size else np.nan,
         "f_ab_sections_spread": float(np.ptp(wake)) if wake.size else np.nan, "note": summary.get("note", ""),
