@@ -229,9 +229,11 @@ def test_dissipation_control_unloads_an_elastoplastic_specimen_instead_of_damagi
     assert u[-1] < u.max() and res.curves["damage_dissipation"][-1] < 0.01 * res.curves["external_work"].max()
 
 
+@pytest.mark.slow
 def test_sharp_notch_corner_damage_comes_from_the_grip():
-    """The top-right corner of the sharp notch is damaged under the non-rotating grip (uniform top displacement)
-    and stays intact when the same edge is pulled by a traction (benchmarks/bench_sharp_notch_edge.py)."""
+    """(slow: a study of benchmarks/bench_sharp_notch_edge.py, which stores it.) The top-right corner of the sharp
+    notch is damaged under the non-rotating grip (uniform top displacement) and stays intact when the same edge
+    is pulled by a traction."""
     import importlib.util
     import sys
 

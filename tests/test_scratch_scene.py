@@ -495,13 +495,16 @@ def test_hard_cases_finish_or_stop_with_a_named_cause(hard):
     assert np.all(np.isfinite(r.curves["normal_force"]))
 
 
+@pytest.mark.slow
 def test_the_faster_increment_control_changes_no_groove_beyond_its_tolerances(monkeypatch):
-    """Issue 39's increment control (indentation in 5 increments instead of 20, a slide that starts at a quarter
-    of its increment, Abaqus' correction criterion 1e-2 instead of 1e-3) against the control before it, on a
-    small plastic scene in the scene's physics (finite strain, F-bar): the tolerances are the increment
-    path's own spread (two runs of one scene differ by ~1 % in F_N where a cutback falls differently), 2 % in the
-    forces and the groove areas, 0.02 in f_ab; both volume budgets close at round-off. Measured: 160 against 269
-    Newton iterations; F_N, F_T, A_g 0.1–0.6 % apart, A_s 2 %, f_ab 0.005."""
+    """(slow: the control before issue 39 needs 20 indentation increments and 1.6 times the iterations; the
+    comparison stands, it is no longer run on every commit.) Issue 39's increment control (indentation in 5
+    increments instead of 20, a slide that starts at a quarter of its increment, Abaqus' correction criterion
+    1e-2 instead of 1e-3) against the control before it, on a small plastic scene in the scene's physics (finite
+    strain, F-bar): the tolerances are the increment path's own spread, 2 % in the forces (slide means) and the
+    groove areas, 0.02 in f_ab; both volume budgets close at round-off. Measured when the control changed: 160
+    against 269 Newton iterations; F_N, F_T, A_g 0.1–0.6 % apart, A_s 2 %, f_ab 0.005. With per-increment means
+    the forces of two runs differing only in round-off (one cut back twice) lay 2.7 % apart, slide means 0.6 %."""
     import abrakit.scratch.scene as scene_module
 
     scene = ScratchScene(depth=0.0008, slide=0.016, mesh=TINY_MESH, size=TINY_BLOCK, unload_steps=2)
@@ -525,12 +528,13 @@ def test_reused_element_tangents_change_no_groove_beyond_the_newton_tolerance():
     """SCRATCH_NEWTON keeps the element tangents of elements whose F moved by less than 1e-4 and that do not
     yield (abrakit.fem.tangent_reuse): the residual is exact, so the scratch converges to the same grooves as with
     the full tangent, within the spread that the Newton tolerance leaves on a path-dependent scene (measured: F_N
-    0.2 %, F_T 0.5 %, A_g 0.1 %, f_ab 0.001 apart; 166 against 175 iterations), in about as many iterations."""
+    0.2 %, F_T 0.4 %, A_g 0.1 %, f_ab 0.003 apart on an 8 µm slide; 0.2 %, 0.5 %, 0.1 % and 0.001 on 16 µm), in
+    about as many iterations (115 against 114)."""
     from dataclasses import replace
 
     from abrakit.scratch.scene import SCRATCH_NEWTON
 
-    scene = ScratchScene(depth=0.0008, slide=0.016, mesh=TINY_MESH, size=TINY_BLOCK, unload_steps=2)
+    scene = ScratchScene(depth=0.0008, slide=0.008, mesh=TINY_MESH, size=TINY_BLOCK, unload_steps=2)
     kept = run_scratch(scene, vtu_every=0, linear_solver="lu")
     full = run_scratch(scene, vtu_every=0, linear_solver="lu", newton=replace(SCRATCH_NEWTON, tangent_reuse=None))
     assert kept.newton_iterations <= 1.1 * full.newton_iterations
