@@ -117,7 +117,9 @@ def test_contacting_example_counts_near_eq_8_7(tmp_path):
     assert 0.8 < result["N_c_D2"] < 1.2 and (tmp_path / "contacting.json").exists()
 
 
+@pytest.mark.slow
 def test_scratch_example_leaves_a_groove(tmp_path):
+    """(slow: its scene, DEMO_SCENE, also runs in the scratch-to-wear example's test and in the scratch demo's.)"""
     groove = load("scratch").main(tmp_path).groove_unloaded
     assert groove.groove_area > groove.shoulder_area > 0 and 0 < groove.degree_of_wear < 1
     assert (tmp_path / "scratch" / "forces.csv").exists()

@@ -306,10 +306,12 @@ class TotalLagrangianKinematics(Kinematics):
         P = stress.reshape(*stress.shape[:2], 3, 3)[..., : self.dim, : self.dim] * self.dx[..., None, None]
         return self.gradient_transpose(P).sum(axis=1)
 
-    def gradient_transpose(self, A: np.ndarray) -> np.ndarray:
+    def gradient_transpose(self, A: np.ndarray, elements: np.ndarray | None = None) -> np.ndarray:
         """Gᵀ vec A at every quadrature point from tensors ``(nel, nqp, dim, dim)``: (Gᵀ vec A)_ai = Σ_J A_iJ
-        ∂N_a/∂X_J, ``(nel, nqp, nbf)`` (without forming G: dim × nnode × dim products per point)."""
-        return np.matmul(self.grad_N, np.swapaxes(A, -1, -2)).reshape(self.nel, self.nqp, self.nbf)
+        ∂N_a/∂X_J, ``(nel, nqp, nbf)`` (without forming G: dim × nnode × dim products per point); ``elements``:
+        for these elements only, ``A`` given for them."""
+        grad_N = self.grad_N if elements is None else self.grad_N[elements]
+        return np.matmul(grad_N, np.swapaxes(A, -1, -2)).reshape(grad_N.shape[0], self.nqp, self.nbf)
 
 
 class FBarState(NamedTuple):
@@ -437,7 +439,7 @@ class FBarKinematics(TotalLagrangianKinematics):
         nel, nqp, nbf = dx.shape[0], self.nqp, self.nbf
         p = stress
         s = np.einsum("eqm,eqm->eq", st.F.reshape(nel, nqp, 9), p)
-        Gtp = np.matmul(grad_N, np.swapaxes(p.reshape(nel, nqp, 3, 3), -1, -2)).reshape(nel, nqp, nbf)
+        Gtp = self.gradient_transpose(p.reshape(nel, nqp, 3, 3), elements)
         X = Gtp + (s / 3.0)[..., None] * st.h
         w = dx * st.alpha / 3.0
 
