@@ -426,7 +426,7 @@ class FBarKinematics(TotalLagrangianKinematics):
         the scratch), else vectorised NumPy (same numbers to round-off, tested). ``elements`` (indices): the
         tangents of these elements only, ``(n, nbf, nbf)``, with ``tangent`` and ``stress`` given for them alone."""
         st = self.fbar_state(u)
-        grad_N, dx, G = self._grad_N_c, self._dx_c, None
+        grad_N, dx = self._grad_N_c, self._dx_c
         if elements is not None:
             elements = np.asarray(elements)
             st = FBarState(*(np.ascontiguousarray(field[elements]) for field in st))

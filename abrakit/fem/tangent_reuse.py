@@ -56,35 +56,33 @@ class ElementTangentReuse:
         """Whether ``response`` says where its points yield and can give the tangent of selected elements."""
         return getattr(response, "yielding", None) is not None and hasattr(response, "tangent_of")
 
-    def reset(self) -> None:
-        """Forget every kept tangent (the next call computes all)."""
-        self._Ke = self._F = self._yielded = self._data = None
-
     def data(self, response, u: np.ndarray) -> np.ndarray:
         """The tangent's values at ``u`` (a fresh array the caller may modify)."""
         asm, kin = self.assembler, self.assembler.kin
         F = kin.fbar_state(u).F.reshape(kin.nel, -1)
         yielding = np.asarray(response.yielding, dtype=bool).reshape(kin.nel, -1).any(axis=1)
         self.calls += 1
-        if self._Ke is None:
-            elements = np.arange(kin.nel)
-        else:
-            moved = np.abs(F - self._F).max(axis=1) > self.tolerance
-            elements = np.flatnonzero(moved | yielding | self._yielded)
+        if self._Ke is None:                                   # the first call computes every element
+            self._Ke = kin.element_tangents(response.tangent, response.stress, u)
+            self._F, self._yielded = F.copy(), yielding
+            self._data = self._summed()
+            self.refreshed += kin.nel
+            return self._data.copy()
+        moved = np.abs(F - self._F).max(axis=1) > self.tolerance
+        elements = np.flatnonzero(moved | yielding | self._yielded)
         if elements.size:
             Ke = kin.element_tangents(response.tangent_of(elements), response.stress[elements], u, elements=elements)
-            if self._Ke is None:
-                self._Ke = Ke
-            else:
-                change = Ke - self._Ke[elements]
-                self._Ke[elements] = Ke
-            if self._data is None or self.calls % self.resum_every == 0:
-                self._data = np.bincount(asm.slot.ravel(), weights=self._Ke.ravel(), minlength=asm.nnz)
+            change = Ke - self._Ke[elements]
+            self._Ke[elements] = Ke
+            self._F[elements], self._yielded[elements] = F[elements], yielding[elements]
+            self.refreshed += elements.size
+            if self.calls % self.resum_every == 0:
+                self._data = self._summed()
             else:
                 self._data += np.bincount(asm.slot[elements].ravel(), weights=change.ravel(), minlength=asm.nnz)
-            if self._F is None:
-                self._F, self._yielded = F.copy(), yielding.copy()
-            else:
-                self._F[elements], self._yielded[elements] = F[elements], yielding[elements]
-            self.refreshed += elements.size
         return self._data.copy()
+
+    def _summed(self) -> np.ndarray:
+        """The global values summed afresh from every kept element tangent."""
+        asm = self.assembler
+        return np.bincount(asm.slot.ravel(), weights=self._Ke.ravel(), minlength=asm.nnz)
