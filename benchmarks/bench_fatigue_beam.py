@@ -32,7 +32,14 @@ import numpy as np
 from _common import command_line, save_figure
 
 from abrakit.dem.fatigue_specimen import history_deviation
-from abrakit.experiments.bending import BeamSpec, cyclic_bending, flexural, four_point_beam, monotonic_bending
+from abrakit.experiments.bending import (
+    BeamSpec,
+    cyclic_bending,
+    flexural,
+    four_point_beam,
+    measured_cycles,
+    monotonic_bending,
+)
 from abrakit.experiments.sweeps import run_sweep
 from abrakit.io import CurveWriter, write_json
 
@@ -69,9 +76,20 @@ def fatigue_case(params: dict) -> dict:
                        max_cycles=params["max_cycles"], time_limit=params.get("time_limit"),
                        max_simulated=params.get("max_simulated"), checkpoint=checkpoint)
     return {"life": r["life"], "stopped": r["stopped"], "simulated_cycles": r["simulated_cycles"],
-            "seconds": r["seconds"], "cycles": r["cycles"].tolist(),
+            "seconds": r["seconds"], "cycles": r["cycles"].tolist(), "measured_at": r["measured_at"].tolist(),
             "modulus_ratio": (r["modulus"] / r["modulus"][0]).tolist(), "damaged": r["damaged"].tolist(),
             "yielding": r["yielding"].tolist()}
+
+
+def _measured(run: dict) -> dict:
+    """``run`` with E_f filed under the cycle it was measured in (``measured_at``) and the life read there: runs
+    recorded before issue 37 filed it under the count after the cycle's jump (their life was the count after the
+    last jump)."""
+    if "measured_at" not in run:
+        run["measured_at"] = measured_cycles(run["cycles"]).tolist()
+        if run["life"]:
+            run["life"] = run["measured_at"][-1]
+    return run
 
 
 def _life_error(run: dict, reference: dict) -> float | None:
@@ -83,12 +101,13 @@ def _life_error(run: dict, reference: dict) -> float | None:
 def _curve_error(run: dict, reference: dict) -> float:
     """Largest relative deviation of E_f/E_f,0 from the reference's at the run's cycles, up to the first cycle where
     either has fallen to 0.75 (before the final collapse, whose timing the life compares)."""
-    n, ratio = np.asarray(reference["cycles"]), np.asarray(reference["modulus_ratio"])
+    n, ratio = np.asarray(reference["measured_at"]), np.asarray(reference["modulus_ratio"])
     end = min(n[np.argmax(ratio < 0.75)] if np.any(ratio < 0.75) else n[-1],
-              next((c for c, m in zip(run["cycles"], run["modulus_ratio"], strict=True) if m < 0.75), n[-1]))
-    keep = np.asarray(run["cycles"]) <= end
-    early = {key: np.asarray(run[key])[keep] for key in ("cycles", "modulus_ratio")}
-    return history_deviation(early, reference, key="modulus_ratio")
+              next((c for c, m in zip(run["measured_at"], run["modulus_ratio"], strict=True) if m < 0.75), n[-1]))
+    keep = np.asarray(run["measured_at"]) <= end
+    early = {"cycles": np.asarray(run["measured_at"])[keep], "modulus_ratio": np.asarray(run["modulus_ratio"])[keep]}
+    return history_deviation(early, {"cycles": reference["measured_at"], "modulus_ratio": ratio},
+                             key="modulus_ratio")
 
 
 def main(outdir: Path, quick: bool = False) -> dict:
@@ -111,7 +130,7 @@ def main(outdir: Path, quick: bool = False) -> dict:
                 + [(f"extrapolated_nosettle_{j}", j, "extrapolated", 0) for j in jumps[1:]]
                 + [(f"extrapolated_{j}", j, "extrapolated", 1) for j in jumps + (() if quick else (0.0003,))]
                 + [("reference", None, "frozen", 0)])
-    jump_runs = [{**r["params"], **r["result"]} for r in run_sweep(
+    jump_runs = [_measured({**r["params"], **r["result"]}) for r in run_sweep(
         fatigue_case, [{**base, "level": 0.77, "jump": jump, "plasticity": plasticity, "name": name,
                         "checkpoint": str(checkpoints / f"jump_{name}.pkl"), **({"settle": 1} if settle else {}),
                         **({"max_simulated": 200} if quick and jump is None else {})}
@@ -128,8 +147,8 @@ def main(outdir: Path, quick: bool = False) -> dict:
     extrapolated = [{**base, "level": level, "jump": 0.003, "plasticity": "extrapolated", "settle": 1,
                      "name": f"extrapolated_level{level:.2f}",
                      "checkpoint": str(checkpoints / f"sn_extrapolated_{level:.2f}.pkl")} for level in levels]
-    sn = [{**r["params"], **r["result"]} for r in run_sweep(fatigue_case, frozen + extrapolated, outdir / f"{NAME}_sn",
-                                                            backend="serial")]
+    sn = [_measured({**r["params"], **r["result"]})
+          for r in run_sweep(fatigue_case, frozen + extrapolated, outdir / f"{NAME}_sn", backend="serial")]
     fits, lives = {}, {}
     for plasticity in ("frozen", "extrapolated"):
         failed = lives[plasticity] = [s for s in sn if s.get("plasticity", "frozen") == plasticity and s["life"]]
@@ -169,10 +188,11 @@ def main(outdir: Path, quick: bool = False) -> dict:
     for r in jump_runs:
         settle = " + settling" if r.get("settle") else ""
         label = "cycle by cycle" if r["jump"] is None else f"{r['plasticity']}{settle}, ΔD_jump = {r['jump']}"
-        ax[1].plot(r["cycles"], r["modulus_ratio"], "-" if r["jump"] is None else ".-", ms=3,
+        ax[1].plot(r["measured_at"], r["modulus_ratio"], "-" if r["jump"] is None else ".-", ms=3,
                    lw=2 if r["jump"] is None else 1, label=f"{label} (life {r['life']})")
     ax[1].axhline(0.5, color="grey", lw=0.5)
-    ax[1].set(xlabel="cycles N", ylabel="E_f / E_f,0", title="77 % of FS_max: modulus degradation")
+    ax[1].set(xlabel="cycle N in which E_f was measured", ylabel="E_f / E_f,0",
+              title="77 % of FS_max: modulus degradation")
     ax[1].legend(fontsize=6)
     for plasticity, marker in (("frozen", "o"), ("extrapolated", "s")):
         failed = lives[plasticity]

@@ -35,6 +35,7 @@ from __future__ import annotations
 import hashlib
 import json
 import time
+import warnings
 from dataclasses import asdict, dataclass
 
 import numpy as np
@@ -51,8 +52,9 @@ from abrakit.fatigue.bond_law import BondParameters
 from abrakit.io import RunRecord, VtuSeries, load_state, save_state
 from abrakit.validation import check_number_fields, check_option, check_positive, check_range, number_arguments
 
-__all__ = ["Beam", "BeamSpec", "beam_theory_deflection", "cyclic_bending", "flexural", "four_point_beam",
-           "monotonic_bending", "table_two", "uniaxial_modulus"]
+__all__ = ["QUASI_STATIC_TOLERANCE", "Beam", "BeamSpec", "beam_theory_deflection", "cyclic_bending", "flexural",
+           "four_point_beam", "measured_cycles", "monotonic_bending", "static_deflection", "table_two",
+           "uniaxial_modulus"]
 
 MODULUS = 1.55e9        # E_c of Table 2 [Pa]
 STIFFNESS_RATIO = 2.4   # k_n / k_s of Table 2
@@ -374,27 +376,35 @@ def cyclic_bending(beam: Beam, load_max: float, *, load_min_ratio: float = 0.0, 
                    jump: float | None = None, plasticity: str = "frozen", settle: int = 0,
                    life_ratio: float = 0.5, max_cycles: int = 100_000,
                    reference_cycles: int = 50, csv=None, time_limit: float | None = None, checkpoint=None,
-                   max_simulated: int | None = None, vtu=None) -> dict:
+                   max_simulated: int | None = None, vtu=None, quasi_static_check: bool = True) -> dict:
     """Haversine cyclic load between ``load_min_ratio`` × and 1 × ``load_max`` [N] (Fig. 16), shared by the loading
     particles.
 
     Each simulated cycle runs ``steps_per_cycle`` steps; at its peak the fatigue update of every bond is applied
     (with the cycle jump ``jump`` if given, Eqs. 40, 41; ``plasticity`` as in
     :meth:`~abrakit.dem.fatigue_bonds.FatigueBonds.onset_of_unloading`; after each jump ``settle`` cycles are
-    simulated one by one before the next sample, letting the beam settle from the jump's sudden relaxation) and E_f
-    = 23 P S³/(108 δ W H³) is taken from the peak load and deflection. E_f,0 is the mean over the cycles up to
-    ``reference_cycles`` (the paper's first 50); the run ends when E_f/E_f,0 ≤ ``life_ratio`` (the fatigue life),
-    when the beam fails, or when a whole cycle left every bond's damage unchanged (``"shakedown"``: the next cycle
-    would repeat it). Returns per simulated cycle ``cycles``, ``modulus``, ``deflection``, ``residual`` (δ at the
-    cycle's end), ``damaged`` (D > 2 D₀), ``yielding`` (bonds that yielded in the sampled cycle, hence got no
-    fatigue) and ``broken`` bond counts, plus ``life`` (or None), ``stopped`` and the timing; with ``csv`` each row
-    is written as it is computed. With ``checkpoint`` (a file) the state is saved after every simulated cycle and a
+    simulated one by one before the next sample, letting the beam settle from the jump's sudden relaxation) and
+    E_f (:func:`flexural`) is taken from the peak load and deflection. E_f,0 is the mean over the cycles measured
+    up to ``reference_cycles`` (the paper's first 50); the run ends when E_f/E_f,0 ≤ ``life_ratio`` (the fatigue
+    life: the cycle in which that E_f was measured), when the beam fails, or when a whole cycle left every bond's
+    damage unchanged (``"shakedown"``: the next cycle would repeat it). Returns per simulated cycle
+    ``measured_at`` (the cycle in which its E_f and δ were measured: one after the count before it),
+    ``cycles`` (the count after its fatigue update, the jump's skipped cycles included: ``cycles − measured_at``
+    of them), ``modulus``, ``deflection``, ``residual`` (δ at the cycle's end), ``damaged`` (D > 2 D₀),
+    ``yielding`` (bonds that yielded in the sampled cycle, hence got no fatigue) and ``broken`` bond counts, plus
+    ``life`` (or None), ``stopped``, ``amplification`` and the timing; with ``csv`` each row is written as it is
+    computed. With ``checkpoint`` (a file) the state is saved after every simulated cycle and a
     run that finds the file resumes from it, rewriting ``csv`` from the saved records: an interrupted run loses at
     most the cycle it was in and then finishes with the same history; a finished run (life, failure, shakedown) is
     read back, not continued. With ``vtu`` (a directory) every simulated cycle also writes the bonds as line cells
     with their damage, fatigue and plastic displacements and yield flag (``bonds_*.vtu`` and ``bonds.pvd`` for
     ParaView, time = cycle count). ``max_simulated`` stops after that many simulated cycles in this call (an
-    interruption on purpose)."""
+    interruption on purpose).
+
+    Quasi-static by measurement (``quasi_static_check``): in the first cycle of a fresh run the state at the peak
+    is held at ``load_max`` until it rests (:func:`static_deflection`, on a copy that is put back);
+    ``amplification`` = δ_peak/δ_static − 1 is returned and a :class:`RuntimeWarning` names ``steps_per_cycle``
+    if it exceeds :data:`QUASI_STATIC_TOLERANCE` (NaN, with a warning, where the held beam collapses)."""
     check_positive("load_max", load_max)
     check_range("load_min_ratio", load_min_ratio, 0.0, 1.0, high_open=True)
     if jump is not None:
@@ -408,7 +418,7 @@ def cyclic_bending(beam: Beam, load_max: float, *, load_min_ratio: float = 0.0, 
     if beam.rollers is not None and load_min_ratio <= 0.0:
         raise ValueError("load_min_ratio must be > 0 with the 'rockers' fixture: one-sided rollers need a seating "
                          "load, or the unloaded beam leaves its supports (0.1, R = 0.1, is usual)")
-    columns = ("cycles", "modulus", "deflection", "residual", "damaged", "yielding", "broken")
+    columns = ("measured_at", "cycles", "modulus", "deflection", "residual", "damaged", "yielding", "broken")
     saved = None if checkpoint is None else load_state(checkpoint)
     if saved is not None:
         sim.restore(saved["sim"])
@@ -425,20 +435,25 @@ def cyclic_bending(beam: Beam, load_max: float, *, load_min_ratio: float = 0.0, 
     phase = np.arange(1, steps_per_cycle + 1) / steps_per_cycle
     profile = load_min_ratio + (1.0 - load_min_ratio) * 0.5 * (1.0 - np.cos(2.0 * np.pi * phase))
     peak_step = steps_per_cycle // 2 - 1
+    amplification = None
     while cycles < max_cycles:
         before = sim.fatigue_bonds.damage.copy()
+        measured_at = cycles + 1
         for k, level in enumerate(profile):
             beam.set_load(load_max * level)
             beam.step()
             if k == peak_step:
                 d_peak = beam.deflection()
+                if quasi_static_check and measured_at == 1:
+                    amplification = _amplification(beam, load_max, d_peak, steps_per_cycle)
                 yielding = int(sim.fatigue_bonds.yielded.sum())
                 now = None if _settling(record.data["cycles"], settle) else jump
                 cycles += sim.fatigue_bonds.onset_of_unloading(jump=now, max_cycles=max_cycles - cycles,
                                                                plasticity=plasticity)
         modulus = float(flexural(load_max, d_peak, beam.spec)["modulus"])
         b = sim.fatigue_bonds
-        record.add(cycles=cycles, modulus=modulus, deflection=d_peak, residual=beam.deflection(),
+        record.add(measured_at=measured_at, cycles=cycles, modulus=modulus, deflection=d_peak,
+                   residual=beam.deflection(),
                    damaged=int(np.sum(b.damage > 2 * b.params.initial_damage)), yielding=yielding,
                    broken=len(sim.cracks))
         if series is not None:
@@ -461,9 +476,72 @@ def cyclic_bending(beam: Beam, load_max: float, *, load_min_ratio: float = 0.0, 
             break
     record.close()
     out = record.arrays()
-    out.update(life=int(cycles) if stopped == "life" else None, stopped=stopped, simulated_cycles=len(record),
-               seconds=time.perf_counter() - clock)
+    out.update(life=int(out["measured_at"][-1]) if stopped == "life" else None, stopped=stopped,
+               simulated_cycles=len(record), amplification=amplification, seconds=time.perf_counter() - clock)
     return out
+
+
+QUASI_STATIC_TOLERANCE = 0.02
+"""Largest dynamic amplification δ_peak/δ_static − 1 of a cycle's peak deflection that counts as quasi-static."""
+
+
+def static_deflection(beam: Beam, load: float, *, block: int = 250, rtol: float = 1e-4,
+                      max_steps: int = 40_000) -> float:
+    """Mid-span deflection [m] of ``beam`` (force control) at rest under the constant ``load`` [N], starting from
+    its present state, which is left unchanged: the simulation (and the rocker pads) are copied, stepped under the
+    held load in blocks of ``block`` steps until δ changes by less than ``rtol`` of itself over a block (the local
+    damping removes the motion), and put back. A beam that breaks a bond or sinks by a tenth of its height under
+    the held load has no static state there: :class:`RuntimeError` says so."""
+    check_positive("load", load)
+    if beam.control != "force":
+        raise ValueError("static_deflection needs a beam built with control='force'")
+    sim, rollers = beam.sim, beam.rollers
+    saved, saved_rollers = sim.snapshot(), None if rollers is None else rollers.state()
+    try:
+        beam.set_load(load)
+        previous, steps, cracks = beam.deflection(), 0, len(sim.cracks)
+        while steps < max_steps:
+            beam.step(block)
+            steps += block
+            now = beam.deflection()
+            if len(sim.cracks) > cracks or now > 0.1 * beam.spec.height:
+                raise RuntimeError(f"the beam does not rest under {load:g} N: held there, it collapses ("
+                                   f"{len(sim.cracks) - cracks} bonds broken, deflection {now:.3g} m after {steps} "
+                                   f"steps)")
+            if abs(now - previous) <= rtol * abs(now):
+                return float(now)
+            previous = now
+        raise RuntimeError(f"the beam did not come to rest under {load:g} N within max_steps = {max_steps} steps "
+                           f"(deflection still changing by {abs(now - previous):.2e} m per {block} steps)")
+    finally:
+        sim.restore(saved)
+        if rollers is not None:
+            rollers.restore(saved_rollers)
+
+
+def _amplification(beam: Beam, load: float, peak: float, steps_per_cycle: int) -> float:
+    """δ_peak/δ_static − 1 of the first cycle, with a warning naming ``steps_per_cycle`` beyond the tolerance (NaN
+    and a warning if the beam has no static state under the peak load)."""
+    try:
+        amplification = peak / static_deflection(beam, load) - 1.0
+    except RuntimeError as collapse:
+        warnings.warn(f"the dynamic amplification could not be measured: {collapse}", RuntimeWarning, stacklevel=3)
+        return float("nan")
+    if abs(amplification) > QUASI_STATIC_TOLERANCE:
+        warnings.warn(f"the cycle is not quasi-static: its peak deflection is {100 * amplification:+.1f} % off the "
+                      f"static one (tolerance {100 * QUASI_STATIC_TOLERANCE:g} %); raise steps_per_cycle "
+                      f"(now {steps_per_cycle})", RuntimeWarning, stacklevel=3)
+    return amplification
+
+
+def measured_cycles(cycles: ArrayLike) -> np.ndarray:
+    """The cycle in which each simulated cycle's E_f was measured, from ``cycles`` (the counts after each simulated
+    cycle's fatigue update, as :func:`cyclic_bending` records them): one after the count before it. For records
+    written before the ``measured_at`` column existed."""
+    cycles = np.asarray(cycles, dtype=np.int64)
+    if cycles.ndim != 1 or np.any(np.diff(cycles) < 1) or (cycles.size and cycles[0] < 1):
+        raise ValueError("cycles must be a rising sequence of cycle counts ≥ 1, one per simulated cycle")
+    return np.concatenate([[1], cycles[:-1] + 1]) if cycles.size else cycles
 
 
 def _settling(cycles, settle: int) -> bool:
@@ -477,7 +555,7 @@ def _settling(cycles, settle: int) -> bool:
 def _ended(history: dict, life_ratio: float, reference_cycles: int, height: float) -> str | None:
     """"life" if the last E_f has fallen to ``life_ratio`` × E_f,0 (the mean up to ``reference_cycles``), "failed"
     if it is not finite or the deflection exceeds a tenth of the ``height``, else None."""
-    early = [m for m, n in zip(history["modulus"], history["cycles"], strict=True) if n <= reference_cycles]
+    early = [m for m, n in zip(history["modulus"], history["measured_at"], strict=True) if n <= reference_cycles]
     reference = float(np.mean(early or history["modulus"][:1]))
     modulus, deflection = history["modulus"][-1], history["deflection"][-1]
     if modulus <= life_ratio * reference:
