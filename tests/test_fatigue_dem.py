@@ -6,6 +6,7 @@ import pytest
 from abrakit.dem import Simulation
 from abrakit.dem.fatigue_bonds import install_fatigue_bonds
 from abrakit.dem.fatigue_specimen import bonded_bar, cyclic_bar, history_deviation
+from abrakit.dem.kernels import HAVE_NUMBA
 from abrakit.dem.periodic import Periodic
 from abrakit.dem.state import Particles
 from abrakit.fatigue import (
@@ -186,3 +187,30 @@ def test_fatigue_bonds_refuse_a_periodic_cell_mixed_parameters_and_bad_input():
         cyclic_bar(sim, loaded, 70e3, 60e3)
     with pytest.raises(ValueError, match="columns"):
         bonded_bar(P, columns=1)
+
+
+@pytest.mark.skipif(not HAVE_NUMBA, reason="the compiled bond update needs numba (extra 'fast')")
+def test_the_compiled_bond_update_gives_the_numpy_update_through_yielding(monkeypatch):
+    """Issue 37: the compiled elastic trial (kinematics, turn into the contact plane, trial stresses and yield test
+    in one loop; only yielding bonds go through the plastic return) against the NumPy update on the coarse beam
+    under a sudden 200 N load, where bonds yield and damage: the same bonds and particles to round-off (measured:
+    bit for bit), and the same answer from one call on the same state."""
+    from abrakit.dem import fatigue_bonds
+    from abrakit.experiments.bending import BeamSpec, four_point_beam
+
+    runs = []
+    for compiled in (False, True):
+        monkeypatch.setattr(fatigue_bonds, "COMPILED_UPDATE", compiled)   # update()'s default
+        beam = four_point_beam(BeamSpec(radius=5e-3), control="force")
+        beam.set_load(200.0)
+        beam.step(600)
+        runs.append((beam.sim.particles.x.copy(), beam.sim.fatigue_bonds))
+    (x0, b0), (x1, b1) = runs
+    assert b0.yielded.sum() > 5 and b0.damage.max() > 0.05              # the plastic return was exercised
+    assert np.allclose(x1, x0, rtol=0, atol=1e-15)
+    for name in ("damage", "plastic", "elastic_n", "elastic_s", "sigma"):
+        assert np.allclose(getattr(b1, name), getattr(b0, name), rtol=1e-12, atol=1e-300), name
+    p = beam.sim.particles
+    one = [b1.update(p.x, p.v, p.w, p.radius, beam.sim.dt, compiled=c) for c in (False, True)]
+    for a, b in zip(one[0][1:], one[1][1:], strict=True):
+        assert np.allclose(a, b, rtol=1e-12, atol=1e-18)

@@ -24,13 +24,18 @@ import numpy as np
 
 from abrakit.dem.bonds import _bond_kinematics, candidate_bond_pairs
 from abrakit.dem.contact_laws import _cross, _dot, _turn_into_plane
+from abrakit.dem.kernels import HAVE_NUMBA, fatigue_bond_trial
 from abrakit.fatigue.bond_law import BondParameters, plastic_return
 from abrakit.fatigue.paris import cycle_update
 from abrakit.validation import check_option, check_positive
 
-__all__ = ["FatigueBonds", "install_fatigue_bonds"]
+__all__ = ["COMPILED_UPDATE", "FatigueBonds", "install_fatigue_bonds"]
 
 BROKEN = 1.0 - 1e-6
+
+COMPILED_UPDATE = HAVE_NUMBA
+"""Whether :meth:`FatigueBonds.update` takes the compiled elastic trial by default (where numba is installed); set
+it to False for the NumPy path (``benchmarks/bench_fatigue_bond_kernel.py`` compares the two)."""
 
 
 @dataclass
@@ -81,16 +86,28 @@ class FatigueBonds:
         return float(0.5 * np.sum(self.area * (self.sigma[0] * self.elastic_n
                                                + self.sigma[1] * np.sqrt(_dot(self.elastic_s, self.elastic_s)))))
 
-    def update(self, x, v, w, radius, dt):
-        """One incremental step; returns ``(new_bonds, force_on_j, torque_on_i, torque_on_j, contact_point)``."""
-        n, arm_i, arm_j, v_rel, vn, point = _bond_kinematics(self.i, self.j, x, v, w, radius)
-        start_n, start_s = self.elastic_n, _turn_into_plane(self.elastic_s, n)
-        trial_n = start_n + vn * dt
-        trial_s = start_s + (v_rel - vn * n) * dt
-        size_s = np.sqrt(_dot(trial_s, trial_s))
-        du_n, du_s, damage, sigma_n, sigma_s = plastic_return(
-            trial_n, size_s, self.damage, self.params, start=(start_n, np.sqrt(_dot(start_s, start_s))),
-            stiffness=(self.kn, self.ks))
+    def update(self, x, v, w, radius, dt, *, compiled: bool | None = None):
+        """One incremental step; returns ``(new_bonds, force_on_j, torque_on_i, torque_on_j, contact_point)``.
+
+        ``compiled`` (default :data:`COMPILED_UPDATE`: where numba is installed) takes the kinematics, the elastic
+        trial and the yield test in one compiled loop (:func:`abrakit.dem.kernels.fatigue_bond_trial`) and hands
+        only the bonds that yield to :func:`~abrakit.fatigue.bond_law.plastic_return`; the NumPy path returns every
+        bond through it.
+        Both give the same bonds to round-off (``tests/test_fatigue_bonds_dem.py``)."""
+        if compiled is None:
+            compiled = COMPILED_UPDATE
+        if compiled:
+            du_n, du_s, damage, sigma_n, sigma_s, trial_n, trial_s, size_s, n, arm_i, arm_j, point = \
+                self._compiled_trial(x, v, w, radius, dt)
+        else:
+            n, arm_i, arm_j, v_rel, vn, point = _bond_kinematics(self.i, self.j, x, v, w, radius)
+            start_n, start_s = self.elastic_n, _turn_into_plane(self.elastic_s, n)
+            trial_n = start_n + vn * dt
+            trial_s = start_s + (v_rel - vn * n) * dt
+            size_s = np.sqrt(_dot(trial_s, trial_s))
+            du_n, du_s, damage, sigma_n, sigma_s = plastic_return(
+                trial_n, size_s, self.damage, self.params, start=(start_n, np.sqrt(_dot(start_s, start_s))),
+                stiffness=(self.kn, self.ks))
         shrink = np.divide(size_s - du_s, size_s, out=np.ones_like(size_s), where=size_s > 0)
         elastic_s = trial_s * shrink
         sigma = np.array([sigma_n, sigma_s])
@@ -102,6 +119,21 @@ class FatigueBonds:
         force = -self.area * (sigma_n * n + self.ks * (1.0 - damage) * elastic_s)
         lever = _cross(n, force)
         return new, force, -arm_i * lever, -arm_j * lever, point
+
+    def _compiled_trial(self, x, v, w, radius, dt):
+        """The compiled elastic trial of every bond, then the plastic return of the bonds that yield."""
+        p = self.params
+        n, arm_i, arm_j, point, start_size, trial_n, trial_s, size_s, sigma_n, sigma_s, active = fatigue_bond_trial(
+            self.i, self.j, np.ascontiguousarray(x, dtype=float), np.ascontiguousarray(v, dtype=float),
+            np.ascontiguousarray(w, dtype=float), radius, self.elastic_n, np.ascontiguousarray(self.elastic_s),
+            self.damage, self.kn, self.ks, float(dt), p.cohesion, p.tensile_strength, p.tan_phi, p.alpha, 1e-12)
+        du_n, du_s, damage = np.zeros_like(size_s), np.zeros_like(size_s), self.damage.copy()
+        a = np.flatnonzero(active)
+        if a.size:
+            du_n[a], du_s[a], damage[a], sigma_n[a], sigma_s[a] = plastic_return(
+                trial_n[a], size_s[a], self.damage[a], p, start=(self.elastic_n[a], start_size[a]),
+                stiffness=(self.kn[a], self.ks[a]))
+        return du_n, du_s, damage, sigma_n, sigma_s, trial_n, trial_s, size_s, n, arm_i, arm_j, point
 
     def onset_of_unloading(self, *, jump: float | None = None, max_cycles=None, hold_while_yielding=False,
                            plasticity: str = "frozen") -> int:

@@ -6,7 +6,8 @@ contacts that also sums the forces onto the particles (so no temporary (3, M) ar
 :func:`linear_wall_contacts` the particle–wall step; both call one inlined law, :func:`_linear_law`. Without an
 energy account and without clumps, :func:`advance` does local damping and the leap-frog update in one loop over
 the particles. Results equal the NumPy path to round-off (the summation order differs); ``tests/test_dem_kernels.py``
-checks it. Parallel bonds, clumps and Hertz–Mindlin stay on the NumPy path.
+checks it. Parallel bonds, clumps and Hertz–Mindlin stay on the NumPy path; :func:`fatigue_bond_trial` is the elastic
+trial of the fatigue bonds (:meth:`~abrakit.dem.fatigue_bonds.FatigueBonds.update`).
 """
 
 from __future__ import annotations
@@ -307,3 +308,71 @@ def largest_distance_squared(a, b):
         if squared > largest or squared != squared:     # a NaN stays (the caller reports it)
             largest = squared
     return largest
+
+
+@njit(cache=True)
+def fatigue_bond_trial(i, j, x, v, w, radius, elastic_n, elastic_s, damage, kn, ks, dt, cohesion, tensile_strength,
+                       tan_phi, alpha, tol):  # pragma: no cover - compiled where numba is installed
+    """The elastic part of :meth:`~abrakit.dem.fatigue_bonds.FatigueBonds.update` in one loop over the bonds: the
+    pair kinematics of :func:`~abrakit.dem.bonds._bond_kinematics`, the shear displacement turned into the
+    contact plane as :func:`~abrakit.dem.contact_laws._turn_into_plane` does, the trial displacements, the
+    elastic stresses of Eq. (15, 16) and the yield test of Eq. (18) with the tolerance of
+    :func:`~abrakit.fatigue.bond_law.plastic_return` (F > tol · scale²). Returns ``(n, arm_i, arm_j, point,
+    start_size, trial_n, trial_s, size_s, sigma_n, sigma_s, active)``; the plastic return of the active bonds stays
+    with :func:`~abrakit.fatigue.bond_law.plastic_return`."""
+    B = i.shape[0]
+    n = np.empty((3, B))
+    point = np.empty((3, B))
+    trial_s = np.empty((3, B))
+    arm_i, arm_j = np.empty(B), np.empty(B)
+    start_size, trial_n, size_s = np.empty(B), np.empty(B), np.empty(B)
+    sigma_n, sigma_s = np.empty(B), np.empty(B)
+    active = np.zeros(B, dtype=np.bool_)
+    for b in range(B):
+        a, c = i[b], j[b]
+        d0, d1, d2 = x[c, 0] - x[a, 0], x[c, 1] - x[a, 1], x[c, 2] - x[a, 2]
+        dist = math.sqrt(d0 * d0 + d1 * d1 + d2 * d2)
+        n0, n1, n2 = d0 / dist, d1 / dist, d2 / dist
+        overlap = radius[a] + radius[c] - dist
+        ai, aj = radius[a] - 0.5 * overlap, radius[c] - 0.5 * overlap
+        s0 = ai * w[a, 0] + aj * w[c, 0]
+        s1 = ai * w[a, 1] + aj * w[c, 1]
+        s2 = ai * w[a, 2] + aj * w[c, 2]
+        r0 = v[c, 0] - v[a, 0] - (s1 * n2 - s2 * n1)
+        r1 = v[c, 1] - v[a, 1] - (s2 * n0 - s0 * n2)
+        r2 = v[c, 2] - v[a, 2] - (s0 * n1 - s1 * n0)
+        vn = r0 * n0 + r1 * n1 + r2 * n2
+        # the shear displacement turned into the contact plane (_turn_into_plane)
+        e0, e1, e2 = elastic_s[0, b], elastic_s[1, b], elastic_s[2, b]
+        before = math.sqrt(e0 * e0 + e1 * e1 + e2 * e2)
+        en = e0 * n0 + e1 * n1 + e2 * n2
+        e0, e1, e2 = e0 - en * n0, e1 - en * n1, e2 - en * n2
+        after = math.sqrt(e0 * e0 + e1 * e1 + e2 * e2)
+        if after < RETURN_TOL * before:
+            en = e0 * n0 + e1 * n1 + e2 * n2
+            e0, e1, e2 = e0 - en * n0, e1 - en * n1, e2 - en * n2
+            after = math.sqrt(e0 * e0 + e1 * e1 + e2 * e2)
+        scale = before / after if after > PLANE_TOL * before else 0.0
+        e0, e1, e2 = e0 * scale, e1 * scale, e2 * scale
+        start_size[b] = math.sqrt(e0 * e0 + e1 * e1 + e2 * e2)
+        # trial displacements and elastic stresses (Eq. 15, 16)
+        tn = elastic_n[b] + vn * dt
+        t0, t1, t2 = e0 + (r0 - vn * n0) * dt, e1 + (r1 - vn * n1) * dt, e2 + (r2 - vn * n2) * dt
+        size = math.sqrt(t0 * t0 + t1 * t1 + t2 * t2)
+        intact = 1.0 - damage[b]
+        sn = kn[b] * (intact if tn >= 0.0 else 1.0) * tn
+        ss = ks[b] * intact * size
+        # the yield test of Eq. (18), relative to the surface's size (bond_law._yield_scale)
+        q = cohesion * intact - sn * tan_phi
+        q0 = (cohesion - tensile_strength * tan_phi) * intact
+        f = alpha * alpha * ss * ss - q * abs(q) + q0 * q0
+        surface = cohesion * intact + tan_phi * max(-sn, 0.0)
+        active[b] = f > tol * surface * surface
+        n[0, b], n[1, b], n[2, b] = n0, n1, n2
+        point[0, b] = x[a, 0] + ai * n0
+        point[1, b] = x[a, 1] + ai * n1
+        point[2, b] = x[a, 2] + ai * n2
+        trial_s[0, b], trial_s[1, b], trial_s[2, b] = t0, t1, t2
+        arm_i[b], arm_j[b] = ai, aj
+        trial_n[b], size_s[b], sigma_n[b], sigma_s[b] = tn, size, sn, ss
+    return n, arm_i, arm_j, point, start_size, trial_n, trial_s, size_s, sigma_n, sigma_s, active

@@ -1,0 +1,96 @@
+"""Cost of the fatigue beam's cycles against the number of disks, with the compiled bond update and without.
+
+Issue 37: the bond update was about half of a 0.7–0.9 ms step on the 98-disk beam, all NumPy call overhead. With
+numba installed :meth:`abrakit.dem.fatigue_bonds.FatigueBonds.update` takes the kinematics, the elastic trial and the
+yield test in one compiled loop (:func:`abrakit.dem.kernels.fatigue_bond_trial`) and returns only the yielding
+bonds through :func:`abrakit.fatigue.bond_law.plastic_return`.
+
+Per lattice beam (largest radius 5, 3.5, 2.5 and 1.75 mm; 5 and 3.5 with ``--quick``), force-controlled at 90 N
+(about 40 % of the 5 mm beam's P_max, elastic but for a few bonds), one haversine cycle of 2000 steps each way:
+disks, bonds, the wall time per step and per cycle with the NumPy and the compiled update (the faster of two
+cycles after a warm-up), the speed-up, and the largest difference of the peak deflection between the two paths
+(they agree to round-off; ``tests/test_fatigue_dem.py`` pins it). The monotonic and fatigue studies of
+``bench_fatigue_beam.py`` read their stored runs, made with the NumPy update.
+
+Writes ``fatigue_bond_kernel.csv``, ``fatigue_bond_kernel.json`` and ``fatigue_bond_kernel.png``.
+
+    python benchmarks/bench_fatigue_bond_kernel.py [--quick] [--outdir DIR]
+"""
+
+from __future__ import annotations
+
+import platform
+import time
+from pathlib import Path
+
+import matplotlib.pyplot as plt
+from _common import command_line, save_figure
+
+from abrakit.dem import fatigue_bonds
+from abrakit.dem.kernels import HAVE_NUMBA
+from abrakit.experiments.bending import BeamSpec, cyclic_bending, four_point_beam
+from abrakit.io import CurveWriter, write_json
+
+NAME = "fatigue_bond_kernel"
+LOAD = 90.0              # N
+STEPS_PER_CYCLE = 2000
+COLUMNS = ("radius_mm", "disks", "bonds", "ms_per_step_numpy", "ms_per_step_compiled", "s_per_cycle_numpy",
+           "s_per_cycle_compiled", "speedup", "deflection_difference")
+
+
+def one_cycle(radius: float, compiled: bool) -> tuple[float, float, int, int]:
+    """Seconds per cycle (best of two after a warm-up cycle) and the first cycle's peak deflection."""
+    fatigue_bonds.COMPILED_UPDATE = compiled
+    beam = four_point_beam(BeamSpec(radius=radius), control="force")
+    run = lambda: cyclic_bending(beam, LOAD, steps_per_cycle=STEPS_PER_CYCLE, max_simulated=1,
+                                 quasi_static_check=False)
+    first = run()
+    times = []
+    for _ in range(2):
+        tic = time.perf_counter()
+        run()
+        times.append(time.perf_counter() - tic)
+    return min(times), float(first["deflection"][0]), len(beam.sim.particles), len(beam.sim.fatigue_bonds)
+
+
+def main(outdir: Path, quick: bool = False) -> dict:
+    outdir = Path(outdir)
+    outdir.mkdir(parents=True, exist_ok=True)
+    if not HAVE_NUMBA:
+        raise SystemExit("this benchmark compares the compiled bond update with NumPy's: pip install abrakit[fast]")
+    radii = (5e-3, 3.5e-3) if quick else (5e-3, 3.5e-3, 2.5e-3, 1.75e-3)
+    rows = []
+    writer = CurveWriter(outdir / f"{NAME}.csv", COLUMNS)
+    try:
+        for radius in radii:
+            numpy_s, numpy_d, disks, bonds = one_cycle(radius, compiled=False)
+            compiled_s, compiled_d, _, _ = one_cycle(radius, compiled=True)
+            row = {"radius_mm": radius * 1e3, "disks": disks, "bonds": bonds,
+                   "ms_per_step_numpy": 1e3 * numpy_s / STEPS_PER_CYCLE,
+                   "ms_per_step_compiled": 1e3 * compiled_s / STEPS_PER_CYCLE, "s_per_cycle_numpy": numpy_s,
+                   "s_per_cycle_compiled": compiled_s, "speedup": numpy_s / compiled_s,
+                   "deflection_difference": abs(compiled_d - numpy_d) / abs(numpy_d)}
+            writer.write(**row)
+            rows.append(row)
+    finally:
+        writer.close()
+        fatigue_bonds.COMPILED_UPDATE = HAVE_NUMBA
+    result = {"rows": rows, "load_N": LOAD, "steps_per_cycle": STEPS_PER_CYCLE, "quick": quick,
+              "machine": platform.platform(), "numba": HAVE_NUMBA}
+    write_json(outdir / f"{NAME}.json", result)
+    fig, ax = plt.subplots(figsize=(6, 4))
+    disks = [r["disks"] for r in rows]
+    ax.loglog(disks, [r["ms_per_step_numpy"] for r in rows], "o-", label="NumPy bond update")
+    ax.loglog(disks, [r["ms_per_step_compiled"] for r in rows], "s-", label="compiled bond update")
+    ax.set(xlabel="disks", ylabel="wall time per step [ms]", title="fatigue beam: cost per step (one cycle = 2000)")
+    ax.legend()
+    save_figure(fig, outdir / f"{NAME}.png")
+    result["summary"] = "\n".join(
+        f"{r['radius_mm']:.2f} mm: {r['disks']} disks, {r['bonds']} bonds: {r['ms_per_step_numpy']:.3f} -> "
+        f"{r['ms_per_step_compiled']:.3f} ms/step ({r['speedup']:.2f}x), {r['s_per_cycle_compiled']:.2f} s/cycle, "
+        f"peak deflection {r['deflection_difference']:.1e} apart" for r in rows)
+    return result
+
+
+if __name__ == "__main__":
+    command_line(main, __doc__)
