@@ -140,6 +140,10 @@ class Rollers:
         on = np.isin(pad_index, pads)
         return float(np.average(values[particle[on]], weights=f[on])) if on.any() else float("nan")
 
+    def contact_counts(self) -> np.ndarray:
+        """Per pad, the number of particles it touched at its last contact evaluation."""
+        return np.bincount(self._contacts[0], minlength=len(self.mode))
+
     def contact_total(self) -> np.ndarray:
         """Per pad, the sum of its last contact forces' magnitudes [N] (never negative: the pads only push)."""
         pad_index, _, _, f = self._contacts
