@@ -175,6 +175,17 @@ def test_the_static_deflection_is_that_of_the_rested_beam_and_leaves_it_as_it_wa
     assert static_deflection(beam, 60.0) == pytest.approx(static, rel=1e-4)      # measured 7e-5
     with pytest.raises(ValueError, match="load"):
         static_deflection(beam, -1.0)
+    with pytest.raises(ValueError, match="rtol"):
+        static_deflection(beam, 60.0, rtol=float("nan"))
+    for name in ("block", "max_steps"):
+        with pytest.raises(ValueError, match=name):
+            static_deflection(beam, 60.0, **{name: 0})
+        with pytest.raises(ValueError, match=name):
+            static_deflection(beam, 60.0, **{name: None})
+    with pytest.raises(TypeError, match="beam"):
+        static_deflection("beam", 60.0)
+    with pytest.raises(TypeError, match="quasi_static_check"):
+        cyclic_bending(four_point_beam(COARSE, control="force"), 100.0, quasi_static_check="yes")
     with pytest.raises(ValueError, match="control='force'"):
         static_deflection(four_point_beam(COARSE), 60.0)
 

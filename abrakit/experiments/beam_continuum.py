@@ -24,7 +24,7 @@ import skfem
 from skfem.models.elasticity import lame_parameters, linear_elasticity
 
 from abrakit.experiments.bending import BeamSpec, flexural
-from abrakit.validation import check_positive, check_range
+from abrakit.validation import check_poisson, check_positive, check_range
 
 __all__ = ["continuum_flexural_modulus"]
 
@@ -45,7 +45,7 @@ def continuum_flexural_modulus(spec: BeamSpec, modulus: float, poisson: float, *
     if not isinstance(spec, BeamSpec):
         raise TypeError(f"spec must be a BeamSpec, got {type(spec).__name__}")
     check_positive("modulus", modulus)
-    check_range("poisson", poisson, -1.0, 0.5, low_open=True, high_open=True)
+    check_poisson("poisson", poisson)
     check_range("pad", pad, 0.0, 0.5 * spec.roller_spacing, low_open=True)
     check_range("element_size", element_size, 0.0, 0.5 * spec.height, low_open=True)
     L, H, S, s = spec.length, spec.height, spec.span, spec.roller_spacing

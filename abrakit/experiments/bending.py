@@ -410,6 +410,8 @@ def cyclic_bending(beam: Beam, load_max: float, *, load_min_ratio: float = 0.0, 
     if jump is not None:
         check_positive("jump", jump)
     check_option("plasticity", plasticity, ("frozen", "extrapolated"))
+    if not isinstance(quasi_static_check, bool):
+        raise TypeError(f"quasi_static_check must be True or False, got {quasi_static_check!r}")
     if int(settle) != settle or settle < 0:
         raise ValueError(f"settle must be a whole number of cycles ≥ 0, got {settle!r}")
     sim = beam.sim
@@ -492,7 +494,13 @@ def static_deflection(beam: Beam, load: float, *, block: int = 250, rtol: float 
     held load in blocks of ``block`` steps until δ changes by less than ``rtol`` of itself over a block (the local
     damping removes the motion), and put back. A beam that breaks a bond or sinks by a tenth of its height under
     the held load has no static state there: :class:`RuntimeError` says so."""
+    if not isinstance(beam, Beam):
+        raise TypeError(f"beam must be a Beam (four_point_beam), got {type(beam).__name__}")
     check_positive("load", load)
+    check_positive("rtol", rtol)
+    for name, value in (("block", block), ("max_steps", max_steps)):
+        if isinstance(value, bool) or not isinstance(value, int | np.integer) or value < 1:
+            raise ValueError(f"{name} must be a whole number of steps ≥ 1, got {value!r}")
     if beam.control != "force":
         raise ValueError("static_deflection needs a beam built with control='force'")
     sim, rollers = beam.sim, beam.rollers

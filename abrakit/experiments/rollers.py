@@ -32,7 +32,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from abrakit.validation import check_option, check_positive, check_range
+from abrakit.validation import check_finite, check_option, check_positive, check_range
 
 __all__ = ["Rollers"]
 
@@ -56,7 +56,8 @@ class Rollers:
     alpha: float = 0.7
 
     def __post_init__(self):
-        self.x0, self.y = np.asarray(self.x0, float), np.asarray(self.y, float).copy()
+        self.x0, self.y = (np.array(check_finite(name, value), dtype=float) for name, value in (("x0", self.x0),
+                                                                                                ("y", self.y)))
         self.side, self.mass = np.asarray(self.side, float), np.asarray(self.mass, float)
         if not (self.x0.shape == self.y.shape == self.side.shape == self.mass.shape == (len(self.mode),)):
             raise ValueError("x0, y, side, mass and mode must have one entry per roller")
