@@ -92,8 +92,7 @@ class FatigueBonds:
         ``compiled`` (default :data:`COMPILED_UPDATE`: where numba is installed) takes the kinematics, the elastic
         trial and the yield test in one compiled loop (:func:`abrakit.dem.kernels.fatigue_bond_trial`) and hands
         only the bonds that yield to :func:`~abrakit.fatigue.bond_law.plastic_return`; the NumPy path returns every
-        bond through it.
-        Both give the same bonds to round-off (``tests/test_fatigue_bonds_dem.py``)."""
+        bond through it. Both give the same bonds (bit for bit, measured; ``tests/test_fatigue_dem.py``)."""
         if compiled is None:
             compiled = COMPILED_UPDATE
         if compiled:

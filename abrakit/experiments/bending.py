@@ -52,8 +52,8 @@ from abrakit.fatigue.bond_law import BondParameters
 from abrakit.io import RunRecord, VtuSeries, load_state, save_state
 from abrakit.validation import check_number_fields, check_option, check_positive, check_range, number_arguments
 
-__all__ = ["QUASI_STATIC_TOLERANCE", "Beam", "BeamSpec", "beam_theory_deflection", "cyclic_bending", "flexural",
-           "four_point_beam", "measured_cycles", "monotonic_bending", "static_deflection", "table_two",
+__all__ = ["FAILURE_SAG", "QUASI_STATIC_TOLERANCE", "Beam", "BeamSpec", "beam_theory_deflection", "cyclic_bending",
+           "flexural", "four_point_beam", "measured_cycles", "monotonic_bending", "static_deflection", "table_two",
            "uniaxial_modulus"]
 
 MODULUS = 1.55e9        # E_c of Table 2 [Pa]
@@ -486,21 +486,25 @@ def cyclic_bending(beam: Beam, load_max: float, *, load_min_ratio: float = 0.0, 
 QUASI_STATIC_TOLERANCE = 0.02
 """Largest dynamic amplification δ_peak/δ_static − 1 of a cycle's peak deflection that counts as quasi-static."""
 
+FAILURE_SAG = 0.1
+"""A beam whose mid-span deflection exceeds this fraction of its height has failed (the cyclic test stops with
+"failed"; held under a load it has no static state)."""
 
+
+@number_arguments
 def static_deflection(beam: Beam, load: float, *, block: int = 250, rtol: float = 1e-4,
                       max_steps: int = 40_000) -> float:
     """Mid-span deflection [m] of ``beam`` (force control) at rest under the constant ``load`` [N], starting from
     its present state, which is left unchanged: the simulation (and the rocker pads) are copied, stepped under the
     held load in blocks of ``block`` steps until δ changes by less than ``rtol`` of itself over a block (the local
-    damping removes the motion), and put back. A beam that breaks a bond or sinks by a tenth of its height under
-    the held load has no static state there: :class:`RuntimeError` says so."""
+    damping removes the motion), and put back. A beam that breaks a bond or sinks by :data:`FAILURE_SAG` of its
+    height under the held load has no static state there: :class:`RuntimeError` says so."""
     if not isinstance(beam, Beam):
         raise TypeError(f"beam must be a Beam (four_point_beam), got {type(beam).__name__}")
     check_positive("load", load)
     check_positive("rtol", rtol)
-    for name, value in (("block", block), ("max_steps", max_steps)):
-        if isinstance(value, bool) or not isinstance(value, int | np.integer) or value < 1:
-            raise ValueError(f"{name} must be a whole number of steps ≥ 1, got {value!r}")
+    check_range("block", block, 1, None)
+    check_range("max_steps", max_steps, 1, None)
     if beam.control != "force":
         raise ValueError("static_deflection needs a beam built with control='force'")
     sim, rollers = beam.sim, beam.rollers
@@ -512,7 +516,7 @@ def static_deflection(beam: Beam, load: float, *, block: int = 250, rtol: float 
             beam.step(block)
             steps += block
             now = beam.deflection()
-            if len(sim.cracks) > cracks or now > 0.1 * beam.spec.height:
+            if len(sim.cracks) > cracks or now > FAILURE_SAG * beam.spec.height:
                 raise RuntimeError(f"the beam does not rest under {load:g} N: held there, it collapses ("
                                    f"{len(sim.cracks) - cracks} bonds broken, deflection {now:.3g} m after {steps} "
                                    f"steps)")
@@ -562,13 +566,13 @@ def _settling(cycles, settle: int) -> bool:
 
 def _ended(history: dict, life_ratio: float, reference_cycles: int, height: float) -> str | None:
     """"life" if the last E_f has fallen to ``life_ratio`` × E_f,0 (the mean up to ``reference_cycles``), "failed"
-    if it is not finite or the deflection exceeds a tenth of the ``height``, else None."""
+    if it is not finite or the deflection exceeds :data:`FAILURE_SAG` of the ``height``, else None."""
     early = [m for m, n in zip(history["modulus"], history["measured_at"], strict=True) if n <= reference_cycles]
     reference = float(np.mean(early or history["modulus"][:1]))
     modulus, deflection = history["modulus"][-1], history["deflection"][-1]
     if modulus <= life_ratio * reference:
         return "life"
-    if not np.isfinite(modulus) or deflection > 0.1 * height:
+    if not np.isfinite(modulus) or deflection > FAILURE_SAG * height:
         return "failed"
     return None
 

@@ -59,10 +59,10 @@ most of them because a point yields): the tangent's part of an iteration falls f
 the default scene back to back: 0.66 → 0.56 s per iteration; run side by side on the two cores: 888 → 792 s, with
 grooves equal to 2·10⁻⁶ in A_g and 2·10⁻⁴ in f_ab (``tests/test_scratch_scene.py`` pins the tiny scene within
 1 %). The F-bar internal forces are compiled too (:func:`abrakit.fem._fbar_kernels.element_forces`, 2.3 against
-26 ms). What is left is PARDISO
-(about half of an iteration, near what two cores can do for this factorisation) times the five to six iterations
-an increment needs while the active sets of contact and plasticity settle (the residual falls about tenfold per
-iteration, with and without friction): fewer iterations, not cheaper ones, are the next lever.
+26 ms). What is left is PARDISO (about half of an iteration, near what two cores can do for this factorisation)
+times the five to six iterations an increment needs while the active sets of contact and plasticity settle (the
+residual falls about tenfold per iteration, with and without friction): fewer iterations, not cheaper ones, are
+the next lever.
 Units: N, mm, MPa (µm values written as mm).
 """
 
