@@ -3,9 +3,10 @@
 Elastic stiffness matrices of bilinear quadrilaterals (2D plane strain) and trilinear hexahedra (3D), clamped on
 one side, from about 1 000 to 400 000 free DOFs in 2D and to 90 000 in 3D (larger 3D factorisations need more
 memory and time than a two-core machine shared with other runs gives). For every back-end of
-:class:`abrakit.fem.DirectSolver`
-(SuperLU in its own order, PARDISO if pypardiso is installed, the banded LU in a reverse Cuthill–McKee order while
-its band fits in :data:`BANDED_MAX_MB`, dense LU up to :data:`DENSE_MAX` unknowns) and for the AMG-preconditioned CG of
+:class:`abrakit.fem.DirectSolver` (SuperLU in its own order; PARDISO if pypardiso is installed, in double precision
+and with single-precision factors refined in double, ``pardiso-single``, ``DirectSolver("pardiso",
+precision="single")``; the banded LU in a reverse Cuthill–McKee order while its band fits in
+:data:`BANDED_MAX_MB`; dense LU up to :data:`DENSE_MAX` unknowns) and for the AMG-preconditioned CG of
 :class:`abrakit.fem.AMGSolver`: the time of the symbolic analysis, of a numerical factorisation (the cost of
 every further Newton iteration; the fastest of repeated ones) and of its solve, of the whole ``solve`` call
 (``total_s``, what ``DirectSolver("auto")`` is judged by), the factor size (non-zeros of L + U, PARDISO's peak
@@ -65,7 +66,7 @@ def measure_direct(backend: str, K, rhs, budget: float = 0.3) -> dict:
     """Analysis and first factorisation, then numerical refactorisations of the same pattern (each Newton
     iteration's cost) repeated for about ``budget`` seconds: the fastest one and its solve are reported (a single
     sub-millisecond factorisation is at the mercy of the host)."""
-    solver = DirectSolver(backend)
+    solver = DirectSolver("pardiso", precision="single") if backend == "pardiso-single" else DirectSolver(backend)
     solver.solve(K, rhs)                                   # analysis + first factorisation
     analyse = solver.times["analyse"] / solver.analyses
     factorise, solve, total, spent, repeat = np.inf, np.inf, np.inf, 0.0, 0
@@ -127,7 +128,7 @@ def measure_amg(K, rhs, modes) -> dict:
 def main(outdir: Path = RESULTS, quick: bool = False) -> dict:
     outdir = Path(outdir)
     outdir.mkdir(parents=True, exist_ok=True)
-    backends = ["superlu"] + (["pardiso"] if pardiso_available() else []) + ["banded", "dense"]
+    backends = ["superlu"] + (["pardiso", "pardiso-single"] if pardiso_available() else []) + ["banded", "dense"]
     rows, choice = [], {}
     for dim, sizes in (QUICK_SIZES if quick else SIZES).items():
         for n in sizes:
@@ -144,7 +145,7 @@ def main(outdir: Path = RESULTS, quick: bool = False) -> dict:
                     continue
                 m = measure_amg(K, rhs, modes) if backend == "amg" else measure_direct(backend, K, rhs)
                 rows.append({"dim": dim, "n": n, "dofs": K.shape[0], "backend": backend, **m})
-                print(f"[linear solvers] {dim}D {K.shape[0]:7d} DOFs {backend:8s} analyse {m['analyse_s']:7.3f} s "
+                print(f"[linear solvers] {dim}D {K.shape[0]:7d} DOFs {backend:14s} analyse {m['analyse_s']:7.3f} s "
                       f"factorise {m['factorise_s']:7.3f} s solve {m['solve_s']:7.4f} s", flush=True)
     with CurveWriter(outdir / "linear_solvers.csv", COLUMNS) as w:
         for r in rows:
@@ -154,6 +155,9 @@ def main(outdir: Path = RESULTS, quick: bool = False) -> dict:
         pairs = {(r["dofs"], r["backend"]): r for r in rows if r["dim"] == dim}
         speedup[dim] = {d: pairs[(d, "superlu")]["factorise_s"] / pairs[(d, "pardiso")]["factorise_s"]
                         for (d, b) in pairs if b == "superlu" and (d, "pardiso") in pairs}
+    by_case = {(r["dim"], r["dofs"], r["backend"]): r["total_s"] for r in rows}
+    single = {f"{dim}D {dofs}": by_case[(dim, dofs, "pardiso")] / t for (dim, dofs, b), t in by_case.items()
+              if b == "pardiso-single"}
     fastest = {}
     for (dim, dofs), chosen in choice.items():
         cost = {r["backend"]: r["total_s"] for r in rows
@@ -161,11 +165,14 @@ def main(outdir: Path = RESULTS, quick: bool = False) -> dict:
         fastest[f"{dim}D {dofs}"] = {"auto": chosen, "fastest": min(cost, key=cost.get),
                                      "auto_over_fastest": cost.get(chosen, np.nan) / min(cost.values())}
     results = {"mode": "quick" if quick else "full", "date": time.strftime("%Y-%m-%d %H:%M"), "rows": rows,
-               "pardiso_over_superlu_factorisation_speedup": speedup, "auto_choice": fastest}
+               "pardiso_over_superlu_factorisation_speedup": speedup, "auto_choice": fastest,
+               "pardiso_single_over_double_speedup": single}
     write_json(outdir / "linear_solvers.json", results)
     plot(rows, outdir / "linear_solvers.png")
     lines = [f"{dim}D, {d} DOFs: PARDISO factorises {s:.1f}x faster than SuperLU" for dim in speedup
              for d, s in sorted(speedup[dim].items())]
+    lines += [f"{k}: PARDISO with single factors refined in double, {v:.2f}x faster per solve call"
+              for k, v in single.items()]
     lines += [f"{k}: auto chooses {v['auto']}, fastest measured {v['fastest']} ({v['auto_over_fastest']:.2f}x its time)"
               for k, v in fastest.items()]
     results["summary"] = "\n".join(lines)
@@ -177,7 +184,8 @@ def plot(rows, path):
 
     fig, ax = plt.subplots(1, 2, figsize=(12, 4.5))
     for a, dim in zip(ax, (2, 3), strict=True):
-        for backend, colour in (("superlu", "C0"), ("pardiso", "C3"), ("amg", "C2"), ("banded", "C1"), ("dense", "C4")):
+        for backend, colour in (("superlu", "C0"), ("pardiso", "C3"), ("pardiso-single", "C5"), ("amg", "C2"),
+                                ("banded", "C1"), ("dense", "C4")):
             sel = sorted((r for r in rows if r["dim"] == dim and r["backend"] == backend), key=lambda r: r["dofs"])
             if not sel:
                 continue

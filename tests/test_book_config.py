@@ -98,3 +98,19 @@ def test_code_cells_link_to_the_api_and_a_section_without_title_pops_nothing():
     assert visitor.title_stack == ["Exercises"]
     ext.depart_section(visitor, chapter)
     assert visitor.title_stack == []
+
+
+def test_every_code_cell_line_fits_the_page():
+    """Code cells are read on the page: at most 88 characters a line (the cells are kept in ruff's format at that
+    width; strings and comments that it cannot split are wrapped by hand)."""
+    import re
+
+    def code(cell: str) -> list[str]:                  # without the cell's options (a YAML block or ":key:" lines)
+        if cell.startswith("---\n"):
+            cell = cell.split("\n---\n", 1)[1]
+        return [line for line in cell.splitlines() if not re.match(r":\w+:", line)]
+
+    long_lines = [f"{chapter.name}: {line[:50]}…" for chapter in sorted(BOOK.glob("*.md"))
+                  for cell in re.finditer(r"```\{code-cell\} ipython3\n(.*?)```", chapter.read_text(), re.S)
+                  for line in code(cell.group(1)) if len(line) > 88]
+    assert long_lines == [], long_lines

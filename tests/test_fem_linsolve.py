@@ -193,3 +193,51 @@ def test_a_system_without_unknowns_is_solved_by_every_choice(backend):
     """Every DOF prescribed (a single element held on all nodes): K_II is 0 × 0 and the correction empty."""
     x = DirectSolver(backend).solve(sp.csr_matrix((0, 0)), np.zeros(0))
     assert x.shape == (0,)
+
+
+needs_pardiso = pytest.mark.skipif(not pardiso_available(), reason="pypardiso/MKL not installed")
+
+
+@needs_pardiso
+@pytest.mark.parametrize("kind", ["elastic", "unsymmetric"])
+def test_single_precision_factors_refined_in_double_give_the_double_answer(kind):
+    """Float32 factors alone leave a relative residual of about 1e-6; the refinement in double precision brings it
+    to check_tol, and the correction then agrees with the double factors' to the conditioning times check_tol."""
+    K = elastic_matrix()
+    if kind == "unsymmetric":
+        K = unsymmetric(K)
+    rhs = np.random.default_rng(1).standard_normal(K.shape[0])
+    reference = spla.splu(sp.csc_matrix(K)).solve(rhs)
+    solver = DirectSolver("pardiso", precision="single", check_tol=1e-13)
+    x = solver.solve(K, rhs)
+    assert solver.name == "direct-pardiso-single" and solver.precision_fallbacks == 0
+    assert np.linalg.norm(K @ x - rhs) <= 1e-13 * np.linalg.norm(rhs)
+    assert np.linalg.norm(x - reference) <= 1e-10 * np.linalg.norm(reference)
+    raw = solver.backend.solve(rhs)                    # the factors are single: refinement did the work
+    assert np.linalg.norm(K @ raw - rhs) > 1e-9 * np.linalg.norm(rhs)
+    assert solver.solves > solver.factorisations
+    chord = solver.resolve(2.0 * rhs)                  # the chord step's solve is refined too
+    assert np.linalg.norm(K @ chord - 2.0 * rhs) <= 1e-13 * np.linalg.norm(2.0 * rhs)
+
+
+@needs_pardiso
+def test_a_tangent_too_ill_conditioned_for_single_factors_is_solved_with_double_ones():
+    """A nearly singular matrix (a 1D Laplacian without supports, shifted by 1e-7: condition about 4e7, against
+    float32's 6e-8 rounding) defeats float32 factors, whose refinement then diverges; the solver refactorises in
+    double, stays there and counts the fallback. (A shift of 1e-5 is still solved in single precision.)"""
+    n = 400
+    laplacian = sp.diags([-np.ones(n - 1), 2.0 * np.ones(n), -np.ones(n - 1)], [-1, 0, 1]).tolil()
+    laplacian[0, 0] = laplacian[n - 1, n - 1] = 1.0
+    K = sp.csr_matrix(laplacian + 1e-7 * sp.identity(n))
+    rhs = np.random.default_rng(3).standard_normal(n)
+    solver = DirectSolver("pardiso", precision="single")
+    x = solver.solve(K, rhs)
+    assert solver.precision_fallbacks == 1 and solver.precision == "double" and solver.name == "direct-pardiso"
+    assert np.linalg.norm(K @ x - rhs) <= 1e-8 * np.linalg.norm(rhs)
+
+
+def test_single_precision_is_refused_where_it_does_not_exist():
+    with pytest.raises(ValueError, match="precision"):
+        DirectSolver("pardiso", precision="half")
+    with pytest.raises(ValueError, match="precision='single' needs backend='pardiso'"):
+        DirectSolver("superlu", precision="single")
