@@ -89,15 +89,14 @@ def main(outdir: Path = RESULTS, quick: bool = False) -> dict:
     with CurveWriter(outdir / "scratch_studies.csv", COLUMNS) as w:
         for r in rows:
             w.write(**{k: r[k] for k in COLUMNS})
+    run_time = sum(r["wall_time_s"] for r in rows if r["status"] == "finished")
     results = {"mode": "quick" if quick else "full", "mesh": mesh, "date": time.strftime("%Y-%m-%d %H:%M"),
-               "host": platform.node(), "wall_time_s": time.perf_counter() - t0, "slide_um": STUDY_SLIDE * 1e3,
-               "seed_formulation_mesh": seed_mesh, "rows": rows,
-               "curves": {name: entry["curves"] for name, entry in run.runs.items()}}
+               "host": platform.node(), "wall_time_s": time.perf_counter() - t0, "run_time_s": run_time,
+               "slide_um": STUDY_SLIDE * 1e3, "seed_formulation_mesh": seed_mesh, "rows": rows}
     write_json(outdir / "scratch_studies.json", results)
     plot(results, outdir / "scratch_studies.png")
-    total = sum(r["wall_time_s"] for r in rows if r["status"] == "finished")
     results["summary"] = (f"{sum(r['status'] == 'finished' for r in rows)} of {len(rows)} runs finished on the "
-                          f"{mesh} mesh in {total:.0f} s of run time")
+                          f"{mesh} mesh in {run_time:.0f} s of run time")
     return results
 
 

@@ -550,13 +550,13 @@ def test_reused_element_tangents_change_no_groove_beyond_the_newton_tolerance():
 @pytest.mark.skipif(not pardiso_available(), reason="pypardiso/MKL not installed")
 def test_the_second_round_of_speed_ups_changes_no_groove_beyond_the_round_off_spread():
     """(slow: two tiny scenes, 16 s; ``make test`` on a fresh clone stood at 621 s with it. The single factors'
-    exactness is pinned in tests/test_fem_linsolve.py on every commit.) Issue 39's second round: SCRATCH_NEWTON's residual test at 1e-3 of the largest nodal force (1e-4 before)
-    and PARDISO's factors in single precision, refined to the double answer, against the scene as it ran before
-    them. The tolerances are those of the reused tangents (RTOL_REUSE: forces and areas 1 %, f_ab 0.01), the spread
-    a path-dependent scene shows between runs that differ in round-off; both volume budgets close at round-off and
-    the single factors were used throughout (no fallback to double). On this tiny scene the iterations are as
-    many (118 against 115 measured); the saving (553 → 519 on the coarse scene, 676 → 632 on the default one) is
-    measured by benchmarks/bench_scratch_speed.py."""
+    exactness is pinned in tests/test_fem_linsolve.py on every commit.) Issue 39's second round: SCRATCH_NEWTON's
+    residual test at 1e-3 of the largest nodal force (1e-4 before) and PARDISO's factors in single precision, refined
+    to the double answer, against the scene as it ran before them. The tolerances are those of the reused tangents
+    (RTOL_REUSE: forces and areas 1 %, f_ab 0.01), the spread a path-dependent scene shows between runs that differ
+    in round-off; both volume budgets close at round-off and the single factors were used throughout (no fallback to
+    double). On this tiny scene the iterations are as many (118 against 115 measured); the saving (553 → 519 on the
+    coarse scene, 676 → 632 on the default one) is measured by benchmarks/bench_scratch_speed.py."""
     from dataclasses import replace
 
     from abrakit.scratch.scene import SCRATCH_NEWTON

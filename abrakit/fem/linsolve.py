@@ -360,7 +360,7 @@ class DirectSolver:
         same = (self._pattern is not None and np.array_equal(self._pattern[0], K.indptr)
                 and np.array_equal(self._pattern[1], K.indices))
         for attempt in range(2):
-            if attempt == 1 and getattr(self.backend, "dtype", None) == np.float32:
+            if attempt == 1 and self.precision == "single":
                 self.precision = "double"                                          # factors too coarse for K
                 self.backend = self._make("pardiso")
                 self.name = f"direct-{self.backend.name}"

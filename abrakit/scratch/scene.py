@@ -43,11 +43,11 @@ in 5 increments (20 before: about 150 of the default scene's 818 Newton iteratio
 that converges in 5 without a cutback), the slide starting at a quarter of its increment (:data:`SLIDE_RAMP`: the
 full first increment turned the whole contact from stick to slip at once and was cut back twice on every mesh),
 and Newton converged when the residual is below 10⁻⁴ of the largest nodal force (10⁻³ since the second round,
-below) and the last correction below 10⁻² of the increment's displacement (Abaqus/Standard's default correction criterion; 10⁻³ before). The grooves
-agree with the earlier control within 2 % (``test_the_faster_increment_control_changes_no_groove_beyond_its_
-tolerances``). Tried and rejected: a slide increment of h_z/2 (13 cutbacks on the coarse mesh, more iterations
-than h_z/4), chord steps while Newton contracts tenfold (more factorisations, not fewer: the contact's active set
-changes between them).
+below) and the last correction below 10⁻² of the increment's displacement (Abaqus/Standard's default correction
+criterion; 10⁻³ before). The grooves agree with the earlier control within 2 %
+(``test_the_faster_increment_control_changes_no_groove_beyond_its_tolerances``). Tried and rejected: a slide
+increment of h_z/2 (13 cutbacks on the coarse mesh, more iterations than h_z/4), chord steps while Newton contracts
+tenfold (more factorisations, not fewer: the contact's active set changes between them).
 
 Second round (issue 39): the residual test at 10⁻³ of the largest nodal force instead of 10⁻⁴, and PARDISO's
 factors in single precision. Both had been tried once and rejected: the tolerance under the controls of the
@@ -70,10 +70,10 @@ most of them because a point yields): the tangent's part of an iteration falls f
 the default scene back to back: 0.66 → 0.56 s per iteration; run side by side on the two cores: 888 → 792 s, with
 grooves equal to 2·10⁻⁶ in A_g and 2·10⁻⁴ in f_ab (``tests/test_scratch_scene.py`` pins the tiny scene within
 1 %). The F-bar internal forces are compiled too (:func:`abrakit.fem._fbar_kernels.element_forces`, 2.3 against
-26 ms). What is left is PARDISO (about half of an iteration, near what two cores can do for this factorisation)
-times the five to six iterations an increment needs while the active sets of contact and plasticity settle (the
-residual falls about tenfold per iteration, with and without friction): fewer iterations, not cheaper ones, are
-the next lever.
+26 ms). What is left is PARDISO (about half of an iteration in double precision, a third in single precision:
+117 of the default scene's 332 s) times the five to six iterations an increment needs while the active sets of
+contact and plasticity settle (the residual falls about tenfold per iteration, with and without friction): fewer
+iterations, not cheaper ones, are the next lever.
 Units: N, mm, MPa (µm values written as mm).
 """
 
