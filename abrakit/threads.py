@@ -1,7 +1,10 @@
 """Thread counts of the numerical libraries, chosen in one place (at ``import abrakit``).
 
-abrakit's hot paths run in up to four thread pools: OpenBLAS (numpy, scipy), MKL (PARDISO, through Intel's
-OpenMP runtime), numba's parallel kernels (GNU OpenMP) and, in the test suite, pytest-xdist's worker processes.
+abrakit's hot paths run in up to four thread pools: OpenBLAS (numpy, scipy), MKL (PARDISO), numba's parallel
+kernels (GNU OpenMP) and, in the test suite, pytest-xdist's worker processes. MKL's single dynamic library picks its
+OpenMP runtime when it is loaded: GNU's (``libmkl_gnu_thread``), shared with numba, if numba's OpenMP pool is
+already loaded, as in a finite element run whose compiled kernels run before the first factorisation; Intel's
+(``libiomp5``) otherwise (read from ``/proc/self/maps``). Intel's settings (``KMP_BLOCKTIME``) then act on nothing.
 Left alone, each pool starts one thread per core: two test workers (or two sweep processes) each starting two
 threads per pool put four busy threads on two cores. Measured on the 2-core machine (``benchmarks/bench_threads.py``,
 the scratch's coarse mesh): a Newton iteration of two concurrent processes costs 295 ms with the libraries'

@@ -88,3 +88,20 @@ def test_bench_damage_path_study_resumes_running_only_the_missing_cases(tmp_path
     ran.clear()
     bench.main_path(tmp_path, tmp_path / "none", **options)
     assert len(ran) == 4
+
+
+def test_bench_scratch_steady_reuses_its_stored_runs_across_the_increment_control_only():
+    """The stored long scratches were indented in 20 increments, today's scenes in 5: the benchmark reuses them
+    (its plan was refused as 'another scene' before), but not a run of other physics."""
+    import bench_scratch_steady as steady
+
+    stored = BENCHMARKS / "results" / "scratch_steady"
+    plan = steady.planned(quick=False)
+    checked = [name for name in plan if (stored / name / "scene.txt").exists()]
+    assert len(checked) >= 10
+    for name in checked:
+        assert steady.same_physics((stored / name / "scene.txt").read_text(), plan[name]), name
+    text = (stored / "grain_100um" / "scene.txt").read_text()
+    assert "indent_steps=20" in text
+    assert not steady.same_physics(text, plan["grain_100um"].with_(depth=0.003))
+    assert not steady.same_physics(text, plan["grain_100um"].with_(mu=0.2))

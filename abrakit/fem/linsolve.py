@@ -176,11 +176,14 @@ class _PardisoBackend:
     :class:`DirectSolver`'s iterative refinement in double precision (x += K⁻¹(b − K x), the residual computed with
     the double matrix) brings to its ``check_tol`` in one or two solves. Half the bytes move through the
     factorisation: on a tangent of the scratch's default mesh (19 557 unknowns, 1.4 M entries, two threads; median
-    of six) 157 against 238 ms, 205 against 261 ms for the whole solve with two refinements; over a scratch run 87
-    against 121 ms per factorisation. ``benchmarks/bench_linear_solvers.py`` compares both on elastic blocks
-    (``--quick``, stored in ``results/linear_solvers_quick``): whole solve calls 1.17× faster at 1 764 and 1.55× at
-    7 260 DOFs in 3D, but 0.80–0.97× in 2D, where the factors are too small for the halved bytes to outweigh the
-    refinement's extra solve. So only the 3D scratch asks for it."""
+    of six) 157 against 238 ms, 205 against 261 ms for the whole solve with two refinements; over a short scratch
+    run 87 against 121 ms per factorisation. (A short slide has a short fine zone and so a smaller mesh: single
+    factors took 90, 110 and 150 ms (medians) with the default level's 12, 40 and 100 µm slides, 14 250, 18 240 and
+    24 510 DOF, in fresh processes of one hour; 188 ms in the benchmark's 100 µm run of a slower hour.)
+    ``benchmarks/bench_linear_solvers.py`` compares both on elastic blocks (``--quick``, stored in
+    ``results/linear_solvers_quick``): whole solve calls 1.17× faster at 1 764 and 1.55× at 7 260 DOFs in 3D, but
+    0.80–0.97× in 2D, where the factors are too small for the halved bytes to outweigh the refinement's extra
+    solve. So only the 3D scratch asks for it."""
 
     name = "pardiso"
     IPARM = {1: 1, 2: 2, 8: 0, 10: 13, 11: 1, 13: 1, 28: 1}

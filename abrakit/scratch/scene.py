@@ -57,8 +57,9 @@ pypardiso leaves 0, and a first probe of this round that set ``iparm(28)`` alone
 coarse scene's 100 µm slide, one run each: 88 s and 553 Newton iterations with both off, 76 s (519) with the
 tolerance, 76 s (544) with the single factors, 68 s (525) with both; F_N, F_T, A_g, A_s within 0.2 % and f_ab
 within 0.002 of each other, as close as two runs that differ only in round-off (the threads' summation order
-changes a cutback). The single factors (87 against 121 ms per factorisation on the default mesh) are refined in
-double precision to the double answer (:class:`~abrakit.fem.DirectSolver`, ``precision="single"``; a tangent too
+changes a cutback). The single factors (87 against 121 ms per factorisation in a short run on the default level,
+whose fine zone, as long as the slide, makes the mesh smaller than the 100 µm slide's) are refined in double
+precision to the double answer (:class:`~abrakit.fem.DirectSolver`, ``precision="single"``; a tangent too
 ill-conditioned for them falls back to double factors).
 
 Where a Newton iteration's time goes on the default scene (24 510 DOF, cProfile): PARDISO's factorisation and solve
