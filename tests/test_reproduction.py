@@ -33,6 +33,21 @@ def test_grain_verdicts_follow_their_deviation(tmp_path):
     assert verdicts["groove area A_g, D = 200 µm grain at 2 N"] == "differs"
 
 
+def test_grain_degree_of_wear_carries_its_spread_over_the_mesh_levels(tmp_path):
+    import json
+
+    grains = {"grain_100um": {"A_g_um2": 98.0, "f_ab": 0.18, "f_ab_rates": 0.08},
+              "grain_200um": {"A_g_um2": 40.0, "f_ab": 0.18, "f_ab_rates": 0.089}}
+    spread = {"100": {"levels": {"demo": {}, "coarse": {}}, "spread": {"f_ab_rates": 0.0033}},
+              "200": {"levels": {"demo": {}}, "spread": {"f_ab_rates": 0.0}}}
+    table = {"from_sections": [1e-7] * 7, "seed_printed": [row[2] for row in wear.TABLE_8_4]}
+    (tmp_path / "scratch_steady.json").write_text(json.dumps({"grains_at_2N": grains, "mesh_spread": spread,
+                                                              "table_8_4": table}))
+    ours = {c.quantity: c.ours for c in R.status(tmp_path) if c.where == "Sec. 8.2"}
+    assert ours["degree of wear f_ab, D = 100 µm grain"] == "0.18 (sections), 0.08 ± 0.003 over 2 meshes (rates)"
+    assert ours["degree of wear f_ab, D = 200 µm grain"] == "0.18 (sections), 0.09 (rates)"      # one level: no ±
+
+
 def test_anisotropic_claims_read_the_worst_bar_and_the_finest_dcb(tmp_path):
     import json
 
