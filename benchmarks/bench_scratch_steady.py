@@ -207,6 +207,8 @@ def planned(quick: bool) -> dict[str, ScratchScene]:
     plan["grain_200um_fullint"] = full.with_(indenter=SphericalIndenter(0.1), depth=0.001)
     plan.update({f"{name}_damage": plan[name].with_(damage=True) for name in DAMAGE_RUNS})
     plan.update({f"{name}_{level}": plan[name].with_(mesh=level) for name in DAMAGE_RUNS for level in GRAIN_LEVELS})
+    plan.update({name: plan[base].with_(slide=slide, size=(0.1, 0.015, slide + 0.1))
+                 for name, (base, slide) in SLIDE_STUDY.items()})
     return plan
 
 
@@ -223,6 +225,13 @@ without, on the same scene (run name + "_damage"), keyed by the grain size D in 
 GRAIN_LEVELS = ("coarse",)
 """Mesh levels on which the grains of :data:`DAMAGE_RUNS` are scratched again (run name + "_" + level) beside their
 "demo" runs: the spread of F_N, A_g and f_ab (rates and sections) over the mesh levels (:func:`mesh_spread`)."""
+
+SLIDE_STUDY = {"fbar_R100_d1.75um_coarse_400um": ("fbar_R100_d1.75um_coarse", 0.4)}
+"""The D = 200 µm grain's coarse run again with a 400 µm slide on a 500 µm block: does its degree of wear settle
+(:func:`slide_windows`)?"""
+
+SLIDE_WINDOW = 0.05
+"""Width of the slide windows of :func:`slide_windows`, mm."""
 
 CONTROL_FIELDS = ("indent_steps", "unload_steps")
 """Fields of a scene that set only the increment control of its indentation and unloading, not its physics: a
@@ -332,6 +341,7 @@ def main(outdir: Path = RESULTS, quick: bool = False, only: str | None = None, p
             for D, name in ((100, "grain_100um"), (200, "grain_200um")) if name in grains}
         results["removal_model"] = removal_model(outdir, runs)
         results["mesh_spread"] = mesh_spread(outdir, plan, runs)
+        results["slide_windows"] = slide_windows(outdir, plan, runs)
     results["wall_time_s"] = time.perf_counter() - t0
     with CurveWriter(outdir / "scratch_steady.csv", COLUMNS) as w:
         for entry in runs.values():
@@ -393,6 +403,29 @@ def mesh_spread(outdir: Path, plan: dict[str, ScratchScene], runs: dict) -> dict
                                   "A_g_relative": float(np.ptp(values["A_g_um2"]) / np.mean(values["A_g_um2"])),
                                   "f_ab_rates": float(np.ptp(values["f_ab_rates"])),
                                   "f_ab_sections": float(np.ptp(values["f_ab_sections"]))}}
+    return out
+
+
+def slide_windows(outdir: Path, plan: dict[str, ScratchScene], runs: dict) -> dict:
+    """For the runs of :data:`SLIDE_STUDY` and the runs they extend: f_ab from the budget's rates over consecutive
+    windows of :data:`SLIDE_WINDOW` along the slide (the first from one window after the start: the indentation's
+    transient), and the mean and range of nine wake sections beyond mid-slide: the slide a degree of wear needs to
+    settle."""
+    out = {}
+    for name, (base, _) in SLIDE_STUDY.items():
+        for run in (base, name):
+            if run not in runs or not runs[run]["row"]["finished"]:
+                continue
+            folder = outdir / "scratch_steady" / run
+            curves, scene = read_curve(folder / "forces.csv"), plan[run]
+            starts = np.arange(SLIDE_WINDOW, scene.slide - 0.5 * SLIDE_WINDOW, SLIDE_WINDOW)
+            wake = wake_sections(scene, folder)
+            out[run] = {"slide_um": scene.slide * 1e3,
+                        "windows_um": [[a * 1e3, (a + SLIDE_WINDOW) * 1e3] for a in starts],
+                        "f_ab_rates": [steady_rates(curves, a, a + SLIDE_WINDOW).degree_of_wear for a in starts],
+                        "f_ab_rates_second_half": runs[run]["row"]["f_ab_rates"],
+                        "f_ab_sections": float(np.mean(wake)) if wake.size else np.nan,
+                        "f_ab_sections_range": float(np.ptp(wake)) if wake.size else np.nan}
     return out
 
 

@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 
 from abrakit.fem import Kinematics
-from abrakit.scratch.budget import BoundaryFaces, volume_budget
+from abrakit.scratch.budget import BoundaryFaces, steady_rates, volume_budget
 from abrakit.scratch.scene import (
     SEED_FORMULATION,
     ST52,
@@ -137,3 +137,30 @@ def test_plastic_only_finite_strain_scratch_is_plowing_at_steady_state():
     z = scene.path.z_start + np.linspace(0.5 * scene.slide, scene.slide - 2 * scene.footprint, 5)
     along = groove_along(r.specimen, r.u, scene, z)
     assert np.all(along.degree_of_wear < 0.2)
+
+
+def _budget_curves(slide, groove, shoulders):
+    """forces.csv-like curves: two indentation increments, then sliding ones with the given volumes."""
+    n = len(slide)
+    zeros = np.zeros(n + 2)
+    curves = {"phase": np.r_[0, 0, np.ones(n)], "slide": np.r_[0.0, 0.0, slide],
+              "V_groove": np.r_[0.0, 0.0, groove], "V_shoulders": np.r_[0.0, 0.0, shoulders]}
+    curves.update({f"V_{k}": zeros for k in ("prow", "sink", "faces", "volume_change", "removed")})
+    return curves
+
+
+def test_steady_rates_are_the_slopes_over_the_window_and_give_eq_8_5_in_rates():
+    """Volumes linear in the slide within a window: the rates are their slopes exactly, f_ab = 1 − shoulders/groove
+    (Eq. 8.5 in rates); a window before a kink does not see the slope after it."""
+    s = np.linspace(0.0, 0.2, 41)
+    groove = 3e-5 * s + 1e-7
+    shoulders = np.where(s <= 0.1, 2e-5 * s, 2e-6 + 2.7e-5 * (s - 0.1))     # the shoulders grow faster after 0.1
+    curves = _budget_curves(s, groove, shoulders)
+    late = steady_rates(curves)                                             # default: the second half
+    assert late.from_slide == pytest.approx(0.1)
+    assert late.groove == pytest.approx(3e-5) and late.shoulders == pytest.approx(2.7e-5)
+    assert late.degree_of_wear == pytest.approx(0.1)
+    early = steady_rates(curves, 0.0, 0.1)
+    assert early.shoulders == pytest.approx(2e-5) and early.degree_of_wear == pytest.approx(1.0 / 3.0)
+    with pytest.raises(ValueError, match="to_slide"):
+        steady_rates(curves, 0.05, 0.055)                                   # one increment in the window

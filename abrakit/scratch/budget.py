@@ -181,17 +181,19 @@ class SteadyRates(NamedTuple):
         return 1.0 - self.shoulders / self.groove
 
 
-def steady_rates(curves: dict, from_slide: float | None = None) -> SteadyRates:
+def steady_rates(curves: dict, from_slide: float | None = None, to_slide: float | None = None) -> SteadyRates:
     """Least-squares slopes d V / d slide of the budget columns of a scratch's ``curves`` (``forces.csv``) over
-    the sliding increments with slide ≥ ``from_slide`` (default: the second half of the slide), mm²."""
+    the sliding increments with ``from_slide`` ≤ slide ≤ ``to_slide`` (default: the second half of the slide, to
+    its end), mm²."""
     sliding = np.asarray(curves["phase"]) == 1
     s = np.asarray(curves["slide"])[sliding]
     if s.size < 3:
         raise ValueError("steady_rates needs at least three sliding increments")
     start = 0.5 * s.max() if from_slide is None else from_slide
-    window = s >= start
+    window = (s >= start) & (s <= (np.inf if to_slide is None else to_slide))
     if window.sum() < 3:
-        raise ValueError(f"from_slide {start:g} mm leaves fewer than three sliding increments")
+        raise ValueError(f"the window from_slide {start:g} mm to to_slide {to_slide} mm leaves fewer than three "
+                         "sliding increments")
 
     def rate(name):
         if f"V_{name}" not in curves:                  # records written before the removed term: none removed
