@@ -226,9 +226,10 @@ GRAIN_LEVELS = ("coarse",)
 """Mesh levels on which the grains of :data:`DAMAGE_RUNS` are scratched again (run name + "_" + level) beside their
 "demo" runs: the spread of F_N, A_g and f_ab (rates and sections) over the mesh levels (:func:`mesh_spread`)."""
 
-SLIDE_STUDY = {"fbar_R100_d1.75um_coarse_400um": ("fbar_R100_d1.75um_coarse", 0.4)}
-"""The D = 200 µm grain's coarse run again with a 400 µm slide on a 500 µm block: does its degree of wear settle
-(:func:`slide_windows`)?"""
+SLIDE_STUDY = {"fbar_R100_d1.75um_coarse_400um": ("fbar_R100_d1.75um_coarse", 0.4),
+               "finite_fbar_400um": ("finite_fbar", 0.4)}
+"""The D = 200 µm grain's coarse run and the seed's scene (R = 50 µm, d = 2 µm, demo mesh) again with a 400 µm slide
+on a 500 µm block: does their degree of wear settle (:func:`slide_windows`)?"""
 
 SLIDE_WINDOW = 0.05
 """Width of the slide windows of :func:`slide_windows`, mm."""
