@@ -30,6 +30,7 @@ Writes ``scratch_steady.json``, ``scratch_steady.csv`` and ``scratch_steady.png`
 from __future__ import annotations
 
 import argparse
+import functools
 import math
 import re
 import time
@@ -372,6 +373,16 @@ def removal_model(outdir: Path, runs: dict) -> dict:
     return out
 
 
+@functools.cache
+def wake_readings(scene: ScratchScene, folder: Path) -> dict:
+    """The mean and range of f_ab over the nine wake sections beyond mid-slide of a stored run
+    (:func:`bench_scratch_speed.wake_sections`; NaN without its end state), computed once per run: the mesh spread
+    and the slide study read the same runs."""
+    wake = wake_sections(scene, folder)
+    return {"f_ab_sections": float(np.mean(wake)) if wake.size else np.nan,
+            "f_ab_sections_range": float(np.ptp(wake)) if wake.size else np.nan}
+
+
 SPREAD_KEYS = ("dofs", "wall_time_s", "F_N", "A_g_um2", "f_ab", "f_ab_rates")
 
 
@@ -389,12 +400,10 @@ def mesh_spread(outdir: Path, plan: dict[str, ScratchScene], runs: dict) -> dict
                 continue
             folder = outdir / "scratch_steady" / run
             scene = plan[run]
-            wake = wake_sections(scene, folder)
             levels[level] = {"run": run, **{k: runs[run]["row"][k] for k in SPREAD_KEYS},
                              "f_ab_rates_last_quarter":
                                  steady_rates(read_curve(folder / "forces.csv"), 0.75 * scene.slide).degree_of_wear,
-                             "f_ab_sections": float(np.mean(wake)) if wake.size else np.nan,
-                             "f_ab_sections_range": float(np.ptp(wake)) if wake.size else np.nan}
+                             **wake_readings(scene, folder)}
         if not levels:
             continue
         values = {k: np.array([lv[k] for lv in levels.values()], dtype=float)
@@ -420,13 +429,11 @@ def slide_windows(outdir: Path, plan: dict[str, ScratchScene], runs: dict) -> di
             folder = outdir / "scratch_steady" / run
             curves, scene = read_curve(folder / "forces.csv"), plan[run]
             starts = np.arange(SLIDE_WINDOW, scene.slide - 0.5 * SLIDE_WINDOW, SLIDE_WINDOW)
-            wake = wake_sections(scene, folder)
             out[run] = {"slide_um": scene.slide * 1e3,
                         "windows_um": [[a * 1e3, (a + SLIDE_WINDOW) * 1e3] for a in starts],
                         "f_ab_rates": [steady_rates(curves, a, a + SLIDE_WINDOW).degree_of_wear for a in starts],
                         "f_ab_rates_second_half": runs[run]["row"]["f_ab_rates"],
-                        "f_ab_sections": float(np.mean(wake)) if wake.size else np.nan,
-                        "f_ab_sections_range": float(np.ptp(wake)) if wake.size else np.nan}
+                        **wake_readings(scene, folder)}
     return out
 
 
