@@ -23,6 +23,7 @@ and is resumed by a later call; finished runs are read back. Writes ``scratch_sp
 
 from __future__ import annotations
 
+import functools
 import platform
 import time
 from pathlib import Path
@@ -82,7 +83,7 @@ def row_of(name: str, scene: ScratchScene, summary: dict, folder: Path) -> dict:
     finished = summary["status"] == "finished"
     rates = steady_rates(curves).degree_of_wear if finished else np.nan
     last_quarter = steady_rates(curves, 0.75 * scene.slide).degree_of_wear if finished else np.nan
-    wake = wake_sections(scene, folder) if finished else np.full(0, np.nan)
+    wake = wake_readings(scene, folder) if finished else {"f_ab_sections": np.nan, "f_ab_sections_range": np.nan}
     groove = summary.get("groove_unloaded") or {}
     return {
         "name": name, "mesh": scene.mesh, "slide_um": scene.slide * 1e3, "length_um": scene.size[2] * 1e3,
@@ -91,8 +92,8 @@ def row_of(name: str, scene: ScratchScene, summary: dict, folder: Path) -> dict:
         "target_s": TARGETS_S.get(name, np.nan), "status": summary["status"],
         "F_N": slide_mean(curves["slide"][second_half], curves["normal_force"][second_half]),
         "A_g_um2": groove.get("A_g_um2", np.nan), "f_ab_rates": rates, "f_ab_rates_last_quarter": last_quarter,
-        "f_ab_sections": float(np.mean(wake)) if wake.size else np.nan,
-        "f_ab_sections_spread": float(np.ptp(wake)) if wake.size else np.nan, "note": summary.get("note", ""),
+        "f_ab_sections": wake["f_ab_sections"], "f_ab_sections_spread": wake["f_ab_sections_range"],
+        "note": summary.get("note", ""),
     }
 
 
@@ -104,6 +105,16 @@ def wake_sections(scene: ScratchScene, folder: Path) -> np.ndarray:
     z0, z1 = scene.path.z_start + 0.5 * scene.slide, scene.path.z_start + scene.slide - 2.0 * scene.footprint
     along = groove_along(build_specimen(scene), np.load(folder / "u.npy"), scene, np.linspace(z0, z1, 9))
     return along.degree_of_wear[np.isfinite(along.degree_of_wear)]
+
+
+@functools.cache
+def wake_readings(scene: ScratchScene, folder: Path) -> dict:
+    """The mean and range of f_ab over the nine wake sections beyond mid-slide of a stored run
+    (:func:`wake_sections`; NaN without its end state), computed once per run (several tables read
+    the same runs)."""
+    wake = wake_sections(scene, folder)
+    return {"f_ab_sections": float(np.mean(wake)) if wake.size else np.nan,
+            "f_ab_sections_range": float(np.ptp(wake)) if wake.size else np.nan}
 
 
 def with_errors(rows: dict[str, dict]) -> str | None:

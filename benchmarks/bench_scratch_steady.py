@@ -30,7 +30,6 @@ Writes ``scratch_steady.json``, ``scratch_steady.csv`` and ``scratch_steady.png`
 from __future__ import annotations
 
 import argparse
-import functools
 import math
 import re
 import time
@@ -39,7 +38,7 @@ from pathlib import Path
 import numpy as np
 from _common import RESULTS, save_figure
 from bench_scratch import FORCE_TOLERANCE, SEED_FORCE, SEED_GRAINS
-from bench_scratch_speed import wake_sections
+from bench_scratch_speed import wake_readings
 
 from abrakit.fem import Kinematics
 from abrakit.io import CurveWriter, read_curve, read_json, write_json
@@ -371,16 +370,6 @@ def removal_model(outdir: Path, runs: dict) -> dict:
                        "removed_um3": summary["volume_budget_um3"]["removed"],
                        "removed_elements": summary["removed_elements"]}
     return out
-
-
-@functools.cache
-def wake_readings(scene: ScratchScene, folder: Path) -> dict:
-    """The mean and range of f_ab over the nine wake sections beyond mid-slide of a stored run
-    (:func:`bench_scratch_speed.wake_sections`; NaN without its end state), computed once per run: the mesh spread
-    and the slide study read the same runs."""
-    wake = wake_sections(scene, folder)
-    return {"f_ab_sections": float(np.mean(wake)) if wake.size else np.nan,
-            "f_ab_sections_range": float(np.ptp(wake)) if wake.size else np.nan}
 
 
 SPREAD_KEYS = ("dofs", "wall_time_s", "F_N", "A_g_um2", "f_ab", "f_ab_rates")
