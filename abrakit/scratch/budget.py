@@ -192,7 +192,8 @@ def steady_rates(curves: dict, from_slide: float | None = None, to_slide: float 
     start = 0.5 * s.max() if from_slide is None else from_slide
     window = (s >= start) & (s <= (np.inf if to_slide is None else to_slide))
     if window.sum() < 3:
-        raise ValueError(f"the window from_slide {start:g} mm to to_slide {to_slide} mm leaves fewer than three "
+        end = "the end of the slide" if to_slide is None else f"{to_slide:g} mm"
+        raise ValueError(f"the window from from_slide = {start:g} mm to to_slide = {end} leaves fewer than three "
                          "sliding increments")
 
     def rate(name):
