@@ -135,6 +135,30 @@ def test_pardiso_probe_names_the_mkl_library_for_later_solvers():
     assert os.path.isfile(os.environ["PYPARDISO_MKL_RT"])
 
 
+@pytest.mark.skipif(not pardiso_available(), reason="pypardiso/MKL not installed")
+def test_the_mkl_library_is_named_before_pypardiso_is_imported_and_a_users_choice_is_kept(monkeypatch):
+    """A fresh process that imports abrakit's solvers and then pypardiso loads the library pip installed into the
+    environment's ``lib`` directly (no recursive glob: pypardiso's own search cost 1.5–5 s per process); a path the
+    user set stays."""
+    import os
+    import subprocess
+    import sys
+
+    from abrakit.fem.linsolve import _name_mkl_library
+
+    probe = ("import glob, os; import abrakit.fem.linsolve as L; calls = []; g = glob.glob;"
+             "glob.glob = lambda *a, **k: calls.append(a) if k.get('recursive') else None or g(*a, **k);"
+             "import pypardiso; assert L.pardiso_available(); pypardiso.PyPardisoSolver();"
+             "print(os.environ['PYPARDISO_MKL_RT'], len(calls))")
+    env = {k: v for k, v in os.environ.items() if k != "PYPARDISO_MKL_RT"}
+    path, globs = subprocess.run([sys.executable, "-c", probe], env=env, capture_output=True, text=True,
+                                 check=True).stdout.split()
+    assert os.path.isfile(path) and "mkl_rt" in os.path.basename(path) and globs == "0"
+    monkeypatch.setenv("PYPARDISO_MKL_RT", "/chosen/by/the/user/libmkl_rt.so")
+    _name_mkl_library()
+    assert os.environ["PYPARDISO_MKL_RT"] == "/chosen/by/the/user/libmkl_rt.so"
+
+
 def plate_tangent(element, n_angular, n_radial):
     """K_II of the plastic plate with a hole (2D, elastic tangent)."""
     from abrakit.fem.problems import TABLE_7_1_PLASTICITY, plate_with_hole_problem

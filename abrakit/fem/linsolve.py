@@ -192,10 +192,10 @@ class _PardisoBackend:
     inside PARDISO (it would refine in single precision; the DirectSolver refines in double), single precision."""
 
     def __init__(self, single: bool = False):
-        import pypardiso
-
         if not pardiso_available():
             raise ImportError("the PARDISO back-end needs pypardiso with MKL (pip install abrakit[fast])")
+        import pypardiso
+
         self._solver = pypardiso.PyPardisoSolver(mtype=11)
         self.dtype = np.float32 if single else np.float64
         if single:
@@ -248,14 +248,42 @@ def banded_wins(n: int, bandwidth: int, sparse: str) -> bool:
     return a + b * n * bandwidth**2 <= c + d * n
 
 
+def _name_mkl_library() -> None:
+    """Set ``PYPARDISO_MKL_RT`` (unless the user has) to the MKL runtime library that pip installs into the
+    environment's ``lib`` directory, found without a recursive search.
+
+    Without that variable pypardiso looks for ``mkl_rt`` with ``ctypes.util.find_library`` (subprocesses) and then
+    a recursive glob over the whole environment, once when it is imported (its module-level solver) and again at
+    every solver construction: 1.5–5 s per process in a pip-installed venv, measured with cProfile on the scratch
+    (4.9 s of a 73 s coarse-mesh run on a loaded machine; 3.0 against 1.1 s to import and probe PARDISO in an idle
+    one), more than a whole demo scene's Newton iterations. With no such file the variable stays unset and
+    pypardiso searches as before."""
+    if os.environ.get("PYPARDISO_MKL_RT"):
+        return
+    import glob
+    import site
+    import sys
+
+    for prefix in dict.fromkeys((sys.prefix, sys.base_prefix, site.USER_BASE or "")):
+        found = sorted(glob.glob(os.path.join(prefix, "lib", "libmkl_rt.so*")) +
+                       glob.glob(os.path.join(prefix, "Library", "bin", "mkl_rt*.dll")), key=len)
+        if found:
+            os.environ["PYPARDISO_MKL_RT"] = found[0]
+            return
+
+
+_name_mkl_library()          # before anything imports pypardiso, whose import already searches
+
+
 @functools.cache
 def pardiso_available() -> bool:
     """Whether the optional PARDISO back-end (pypardiso with MKL, extra ``fast``) can be loaded (probed once: the
-    probe searches for and loads the MKL library).
+    probe loads the MKL library).
 
     pypardiso looks for ``mkl_rt`` with a recursive glob over the environment at *every* solver construction
-    (0.8 s in a pip-installed venv: more than a whole small plastic plate run) unless ``PYPARDISO_MKL_RT`` names
-    the library; the probe sets it to the library it found, so later constructions load it directly."""
+    (0.8–5 s in a pip-installed venv: more than a whole small plastic plate run) unless ``PYPARDISO_MKL_RT`` names
+    the library: :func:`_name_mkl_library` names it when this module is imported, and the probe sets it to the
+    library pypardiso found otherwise, so later constructions load it directly."""
     try:
         import pypardiso
 
