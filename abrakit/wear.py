@@ -38,6 +38,7 @@ __all__ = [
     "G65_CONTACT_AREA",
     "GRAIN_100UM",
     "GRAIN_200UM",
+    "PENETRATION_BANDS",
     "PLOWING_LIMIT",
     "TABLE_8_4",
     "G65Test",
@@ -52,6 +53,7 @@ __all__ = [
     "fit_scaling_area",
     "mixture_wear_rate",
     "particle_wear_rate",
+    "penetration_regime",
     "wear_rate",
     "wear_regime",
     "wheel_surface_speed",
@@ -114,6 +116,28 @@ def wear_regime(f_ab):
     regime = np.select(
         [f_ab < PLOWING_LIMIT, f_ab <= CUTTING_LIMIT], ["plowing", "wedging"], default="cutting"
     )
+    return str(regime) if regime.ndim == 0 else regime
+
+
+PENETRATION_BANDS = ((0.1, 0.2), (0.2, 0.3))
+"""Hokkirigawa & Kato's regime map (Tribol. Int. 21, 1988; spherical pins on brass and steels), in the degree of
+penetration D_p = h/a, the seed's 2d/w of Eq. (8.6): the transition from plowing to wedge formation lies in the
+first band, from wedge formation to cutting in the second; the bands' width is the spread over the materials (they
+meet at 0.2, so no D_p is a wedge on every material)."""
+
+
+def penetration_regime(D_p):
+    """Wear regime from the degree of penetration (Eq. 8.6) on Hokkirigawa & Kato's map
+    (:data:`PENETRATION_BANDS`): ``"plowing"`` below the first band, ``"plowing or wedge"`` inside it, ``"wedge"``
+    between the bands, ``"wedge or cutting"`` inside the second, ``"cutting"`` above it. A second verdict beside
+    :func:`wear_regime`'s, which reads the same scratch by its f_ab (Zum Gahr's measure, Sec. 8.2.2): the two agree
+    when ``wear_regime`` names one of the regimes this one allows. Returns a ``str`` for scalar input, else an
+    array of strings of the same shape.
+    """
+    D_p = np.asarray(check_positive("D_p", D_p, allow_zero=True))
+    (a, b), (c, d) = PENETRATION_BANDS
+    regime = np.select([D_p < a, D_p <= b, D_p < c, D_p <= d],
+                       ["plowing", "plowing or wedge", "wedge", "wedge or cutting"], default="cutting")
     return str(regime) if regime.ndim == 0 else regime
 
 

@@ -59,6 +59,22 @@ def test_degree_of_penetration():
         W.degree_of_penetration(-1.0, 1.0)
 
 
+def test_penetration_regime_follows_hokkirigawa_kato_bands_and_refuses_negative_depths():
+    assert W.penetration_regime(0.0) == "plowing"
+    assert W.penetration_regime(np.nextafter(0.1, 0.0)) == "plowing"
+    assert W.penetration_regime(0.1) == "plowing or wedge"
+    assert W.penetration_regime(0.2) == "plowing or wedge"               # the bands meet at 0.2
+    assert W.penetration_regime(0.25) == "wedge or cutting"
+    assert W.penetration_regime(0.3) == "wedge or cutting"
+    assert W.penetration_regime(np.nextafter(0.3, 1.0)) == "cutting"
+    assert W.penetration_regime([[0.05, 0.15], [0.25, 0.5]]).tolist() == [["plowing", "plowing or wedge"],
+                                                                          ["wedge or cutting", "cutting"]]
+    R, d = 50.0, 2.0                                                       # the seed's sphere: D_p = sqrt(d/2R)
+    assert W.penetration_regime(W.degree_of_penetration(d, 2 * np.sqrt(2 * R * d - d * d))) == "plowing or wedge"
+    with pytest.raises(ValueError, match="D_p"):
+        W.penetration_regime(-0.1)
+
+
 def test_wear_regime_thresholds_and_seed_examples():
     assert W.wear_regime(0.0) == "plowing"
     assert W.wear_regime(np.nextafter(0.2, 0.0)) == "plowing"
