@@ -189,8 +189,20 @@ def test_genesis_hits_the_target_porosity(specimen):
     assert min(info["stress_expanded"]) > 100 * SPEC.stress
 
 
-def test_genesis_is_reproducible_and_cached(tmp_path):
-    spec = SpecimenSpec(n_particles=60, seed=2, aspect=1.0)       # ends within the acceptance (13 %, ratio 0.02)
+@pytest.fixture
+def lenient_acceptance(monkeypatch):
+    """The 60-grain packings of the caching tests end 13–28 % from σ0 depending on the processor's rounding
+    (the same code and packages: seed 2 ended 13 % off on the machine of 2026-11-28, 24.7 % on an AMD EPYC on
+    2026-11-29; seeds 1, 3, 5 there 16–64 %, seed 2 with 20 000 steps 28 %): a chaotic frictionless packing. These
+    tests are about the cache, not the acceptance (pinned on the full-size SPEC above and by
+    ``test_genesis_warns_and_does_not_cache_an_unconsolidated_specimen``), so they accept up to 100 %."""
+    import abrakit.experiments.specimen as module
+
+    monkeypatch.setattr(module, "ACCEPTED_STRESS", 1.0)
+
+
+def test_genesis_is_reproducible_and_cached(tmp_path, lenient_acceptance):
+    spec = SpecimenSpec(n_particles=60, seed=2, aspect=1.0)
     a = genesis(spec, cache=tmp_path)
     b = genesis(spec, cache=False)
     np.testing.assert_array_equal(a.x, b.x)
@@ -213,7 +225,7 @@ def test_genesis_warns_and_does_not_cache_an_unconsolidated_specimen(tmp_path):
         genesis(spec, cache=tmp_path, max_steps=2000)
 
 
-def test_genesis_flags_a_specimen_cached_before_the_acceptance_existed(tmp_path):
+def test_genesis_flags_a_specimen_cached_before_the_acceptance_existed(tmp_path, lenient_acceptance):
     """An accepted specimen saved without ``consolidation_accepted`` (an older cache) is returned with the flag."""
     spec = SpecimenSpec(n_particles=60, seed=2, aspect=1.0)
     good = genesis(spec, cache=False)
