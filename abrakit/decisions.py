@@ -102,10 +102,17 @@ DECISIONS: tuple[Decision, ...] = (
              "reconstruction"),
     Decision("the degree of wear of one grain", "read from one section of a 100 µm scratch (0.37 and 0.12)",
              "the steady rate of the volume budget, (rate of A_g − rate of A_s)/rate of A_g, over the second half "
-             "of a 200 µm slide; its uncertainty from the last quarter's rate, nine wake sections and the mesh "
-             "levels", "the sections fall along the wake: a 100 µm slide is still in the indentation's transient "
-             "(rates 0.19–0.20), a 200 µm slide gives 0.056 on three mesh levels (spread 6 × 10⁻⁴), 0.04 over its "
-             "last quarter and 0.07 (range 0.07) from the sections", ("benchmarks/bench_scratch_speed.py",),
+             "of a 400 µm slide on a 500 µm block, at 2 N as in Table 8.4; its uncertainty from 50 µm windows, "
+             "nine wake sections and the mesh levels of the 200 µm slides",
+             "the sections and rates fall along the wake: over 50 µm windows 0.29, 0.12, 0.05–0.06 on every grain, "
+             "then level off at 0.03 after about 250 µm of slide (13 footprint radii) at d ≈ 2 µm, and keep "
+             "falling slowly at d = 4 µm (0.024, 0.014, 0.010, 0.008: an upper estimate); the second half of a "
+             "200 µm slide (0.056 on three mesh levels of the seed's scene, 0.08–0.09 for the grains) still lies "
+             "in the transient", ("benchmarks/bench_scratch_steady.py",
+                                  "tests/test_benchmarks.py::test_the_grains_steady_degree_of_wear_is_read_beyond_"
+                                  "the_slide_transient",
+                                  "tests/test_scratch_budget.py::test_steady_rates_are_the_slopes_over_the_window_"
+                                  "and_give_eq_8_5_in_rates"),
              "scratch_to_wear", "choice"),
     Decision("load increments of the scratch", "not stated (an Abaqus/Standard run)",
              "indentation in 5 increments, the slide in h_z/4 increments starting at a quarter of one, Newton's "

@@ -59,7 +59,7 @@ SEED_BLOCK = {"slide": 0.1, "size": (0.1, 0.015, 0.2)}
 COLUMNS = ("name", "kinematics", "end_faces", "R_um", "d_um", "slide_um", "elements", "dofs", "wall_time_s",
            "F_N", "F_T", "apparent_friction", "F_N_plateau_from_um", "A_g_um2", "A_s_um2", "f_ab",
            "rate_groove_um2", "rate_shoulders_um2", "rate_prow_um2", "rate_volume_change_um2", "f_ab_rates",
-           "V_groove_um3", "V_shoulders_um3", "V_prow_um3", "V_sink_um3", "V_faces_um3", "V_volume_change_um3",
+           "D_p", "V_groove_um3", "V_shoulders_um3", "V_prow_um3", "V_sink_um3", "V_faces_um3", "V_volume_change_um3",
            "V_residual_um3", "finished", "slide_reached_um")
 
 
@@ -142,7 +142,7 @@ def analyse(name: str, scene: ScratchScene, folder: Path) -> dict:
         "A_g_um2": g.get("A_g_um2", np.nan), "A_s_um2": g.get("A_s_um2", np.nan), "f_ab": g.get("f_ab", np.nan),
         "rate_groove_um2": rates.groove * 1e6, "rate_shoulders_um2": rates.shoulders * 1e6,
         "rate_prow_um2": rates.prow * 1e6, "rate_volume_change_um2": rates.volume_change * 1e6,
-        "f_ab_rates": rates.degree_of_wear,
+        "f_ab_rates": rates.degree_of_wear, "D_p": g.get("D_p", np.nan),
         **{f"V_{k}_um3": budget[k] for k in ("groove", "shoulders", "prow", "sink", "faces", "volume_change",
                                              "residual")},
     }
@@ -285,7 +285,7 @@ def at_seed_force(outdir: Path, name: str, scene: ScratchScene, entry: dict, par
     return analyse(name, corrected, run_or_load(outdir, f"{name}_corrected", corrected, partial))
 
 
-GRAIN_KEYS = ("d_um", "A_g_um2", "A_s_um2", "f_ab", "rate_groove_um2", "f_ab_rates")
+GRAIN_KEYS = ("d_um", "A_g_um2", "A_s_um2", "f_ab", "rate_groove_um2", "f_ab_rates", "D_p")
 
 
 def slid_half(row: dict) -> bool:

@@ -105,3 +105,28 @@ def test_bench_scratch_steady_reuses_its_stored_runs_across_the_increment_contro
     assert "indent_steps=20" in text
     assert not steady.same_physics(text, plan["grain_100um"].with_(depth=0.003))
     assert not steady.same_physics(text, plan["grain_100um"].with_(mu=0.2))
+
+
+def test_the_grains_steady_degree_of_wear_is_read_beyond_the_slide_transient():
+    """The chain's f_ab per grain (``grains_steady``) comes from the 400 µm slides of ``SLIDE_STUDY``, over their
+    second half: there every 50 µm window beyond 250 µm of slide lies within 0.015 of it and the mean of the wake
+    sections within 0.01 (the d = 4 µm grain's windows still fall slowly: 0.014, 0.010, 0.008 around 0.013), while
+    the second half of the 200 µm slide it extends reads at least 1.7 times more (the transient)."""
+    import bench_scratch_steady as steady
+
+    from abrakit.io import read_json
+
+    results = read_json(BENCHMARKS / "results" / "scratch_steady.json")
+    windows = results["slide_windows"]
+    for name, (short, _) in steady.SLIDE_STUDY.items():
+        w = windows[name]
+        late = [f for (start, _), f in zip(w["windows_um"], w["f_ab_rates"], strict=True) if start >= 250.0]
+        settled = w["f_ab_rates_second_half"]
+        assert len(late) == 3 and max(abs(f - settled) for f in late) <= 0.015, name
+        assert abs(w["f_ab_sections"] - settled) <= 0.01, name
+        assert windows[short]["f_ab_rates_second_half"] >= 1.7 * settled, name
+    grains = results["grains_steady"]
+    for name, series in steady.STEADY_SERIES.items():
+        assert grains[name]["runs"] and set(grains[name]["runs"]) <= set(series), name
+        runs = [results["runs"][run]["row"]["f_ab_rates"] for run in grains[name]["runs"]]
+        assert min(runs) - 1e-12 <= grains[name]["f_ab_rates"] <= max(runs) + 1e-12, name
