@@ -79,7 +79,12 @@ moves, not the contact's: at most four contact nodes change state, while the flo
 1300, 400, 80 and 10 in the second to fifth iterations. Tried and rejected there: the elastic-plastic tangent at
 points on the yield surface at an increment's start (226 instead of 174 iterations and five cutbacks on a 20 µm
 slide), the first correction of an increment with the last increment's factors (the indentation diverges: nodes
-newly in contact have no stiffness in them).
+newly in contact have no stiffness in them). Also rejected (coarse mesh, 30 µm slide, baseline 230–238
+iterations and 1–2 cutbacks in 57–67 s): a convected predictor, each slide increment starting from u shifted along
+z by the tip's advance (a steady translation of the field), whose first residual is ten times smaller but whose
+plastic set then toggles for 8–13 iterations per increment, with three cutbacks in the first 6 µm; and a line
+search that keeps a full Newton step up to twice the residual (``growth_allowed = 2``): 384 iterations, 9
+cutbacks, 108 s.
 Units: N, mm, MPa (µm values written as mm).
 """
 
