@@ -235,10 +235,11 @@ SLIDE_STUDY = {"fbar_R100_d1.75um_coarse_400um": ("fbar_R100_d1.75um_coarse", 0.
 STEADY_SERIES = {"grain_100um": ("finite_fbar_400um", "grain_100um_coarse_400um"),
                  "grain_200um": ("fbar_R100_d1.75um_coarse_400um",)}
 """The grains' steady state: the 400 µm slides of :data:`SLIDE_STUDY` read over the second half of their slide
-(200–400 µm, beyond the transient of about 250 µm that :func:`slide_windows` measures), at 2 N as in
-:data:`GRAIN_SERIES` (:func:`at_two_newtons`). The R = 50 µm grain is interpolated between d = 2 µm (demo mesh,
-1.0 N) and d = 4 µm (coarse mesh, 2.5 N): the two levels differ by 0.003 in f_ab (:func:`mesh_spread`), ten times
-less than the interpolation moves it; the R = 100 µm grain is its run at 1.9 N (none brackets 2 N)."""
+(200–400 µm: :func:`slide_windows` shows the d ≈ 2 µm runs levelled from about 250 µm on, the d = 4 µm run still
+falling slowly there, so its reading is an upper estimate), at 2 N as in :data:`GRAIN_SERIES`
+(:func:`at_two_newtons`). The R = 50 µm grain is interpolated between d = 2 µm (demo mesh, 1.0 N) and d = 4 µm
+(coarse mesh, 2.6 N): the two levels differ by 0.003–0.004 in f_ab on 200 µm slides (:func:`mesh_spread`), a fifth
+of what the interpolation spans (0.030 to 0.013); the R = 100 µm grain is its run at 1.9 N (none brackets 2 N)."""
 
 SLIDE_WINDOW = 0.05
 """Width of the slide windows of :func:`slide_windows`, mm."""
