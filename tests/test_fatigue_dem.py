@@ -191,10 +191,13 @@ def test_fatigue_bonds_refuse_a_periodic_cell_mixed_parameters_and_bad_input():
 
 @pytest.mark.skipif(not HAVE_NUMBA, reason="the compiled bond update needs numba (extra 'fast')")
 def test_the_compiled_bond_update_gives_the_numpy_update_through_yielding(monkeypatch):
-    """Issue 37: the compiled elastic trial (kinematics, turn into the contact plane, trial stresses and yield test
-    in one loop; only yielding bonds go through the plastic return) against the NumPy update on the coarse beam
-    under a sudden 200 N load, where bonds yield and damage: the same bonds and particles to round-off (measured:
-    bit for bit), and the same answer from one call on the same state."""
+    """Issue 37: the compiled update (kinematics, turn into the contact plane, trial stresses and yield test in one
+    loop, the yielding bonds' return in another: :mod:`abrakit.fatigue.return_kernel`) against the NumPy update on
+    the coarse beam under a sudden 200 N load, where bonds yield and damage: the same particles to round-off and the
+    same bonds to the return's tolerance, and the same answer from one call on the same state. The compiled return
+    stops each bond at its own tolerance (10⁻¹² of the scaled residual), the vectorised one iterates every bond
+    until the slowest has converged; measured after 600 steps: the bonds' fields within 1·10⁻¹⁰ of their largest
+    value (bit for bit while only the elastic trial was compiled), the positions within 2·10⁻¹⁶ m."""
     from abrakit.dem import fatigue_bonds
     from abrakit.experiments.bending import BeamSpec, four_point_beam
 
@@ -209,8 +212,9 @@ def test_the_compiled_bond_update_gives_the_numpy_update_through_yielding(monkey
     assert b0.yielded.sum() > 5 and b0.damage.max() > 0.05              # the plastic return was exercised
     assert np.allclose(x1, x0, rtol=0, atol=1e-15)
     for name in ("damage", "plastic", "elastic_n", "elastic_s", "sigma"):
-        assert np.allclose(getattr(b1, name), getattr(b0, name), rtol=1e-12, atol=1e-300), name
+        a, b = getattr(b0, name), getattr(b1, name)
+        assert np.abs(b - a).max() <= 1e-9 * np.abs(a).max(), name
     p = beam.sim.particles
     one = [b1.update(p.x, p.v, p.w, p.radius, beam.sim.dt, compiled=c) for c in (False, True)]
     for a, b in zip(one[0][1:], one[1][1:], strict=True):
-        assert np.allclose(a, b, rtol=1e-12, atol=1e-18)
+        assert np.abs(b - a).max() <= 1e-9 * np.abs(a).max()
