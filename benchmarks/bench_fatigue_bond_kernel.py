@@ -14,7 +14,7 @@ fatigue studies of ``bench_fatigue_beam.py`` read their stored runs, made with t
 
 The elastic cycles hardly yield. Where bonds yield, the return map dominates: per lattice beam (5 and 3.5 mm; 5 with
 ``--quick``) a monotonic test to 70 % of its peak with the NumPy update, the compiled trial with the NumPy return,
-and the compiled trial and return (:mod:`abrakit.fatigue.return_kernel`): wall time, steps, ms per step, FS_max and
+and the compiled trial and return (:mod:`abrakit.fatigue._return_kernel`): wall time, steps, ms per step, FS_max and
 its deviation from the NumPy path's, and the largest deviation of the load curve up to the peak, relative to the
 peak (the compiled return stops each bond at its own tolerance, so the paths agree to the tolerance amplified by
 the softening, not to round-off).

@@ -362,14 +362,14 @@ def test_a_nearly_broken_bond_carrying_shear_by_friction_is_returned():
 
 @pytest.mark.skipif(not HAVE_NUMBA, reason="the compiled return needs numba (extra 'fast')")
 def test_the_compiled_return_equals_the_numpy_return_to_its_tolerance():
-    """:func:`abrakit.fatigue.return_kernel.plastic_return_bonds` runs the NumPy return's algorithm per bond (same
+    """:func:`abrakit.fatigue._return_kernel.plastic_return_bonds` runs the NumPy return's algorithm per bond (same
     first guess, difference Jacobian, line search and tolerance) and stops each bond at its own tolerance: the
     converged bonds agree with :func:`plastic_return` within 10⁻¹⁰ of each field's largest value (measured 1·10⁻¹²),
     per-bond stiffnesses included. Trials far beyond the strength (the hard case above) that its Newton iteration
     cannot return are flagged, with finite values, for the caller's NumPy return, which splits their steps; the
     nearly broken bond in friction converges."""
+    from abrakit.fatigue._return_kernel import plastic_return_bonds
     from abrakit.fatigue.bond_law import _bond_stresses, _criterion, _yield_scale
-    from abrakit.fatigue.return_kernel import plastic_return_bonds
 
     def compiled(en, es, d0, p, kn, ks):
         return plastic_return_bonds(en, es, d0, kn, ks, p.un, p.us, p.cohesion, p.tensile_strength, p.tan_phi,

@@ -192,7 +192,7 @@ def test_fatigue_bonds_refuse_a_periodic_cell_mixed_parameters_and_bad_input():
 @pytest.mark.skipif(not HAVE_NUMBA, reason="the compiled bond update needs numba (extra 'fast')")
 def test_the_compiled_bond_update_gives_the_numpy_update_through_yielding(monkeypatch):
     """Issue 37: the compiled update (kinematics, turn into the contact plane, trial stresses and yield test in one
-    loop, the yielding bonds' return in another: :mod:`abrakit.fatigue.return_kernel`) against the NumPy update on
+    loop, the yielding bonds' return in another: :mod:`abrakit.fatigue._return_kernel`) against the NumPy update on
     the coarse beam under a sudden 200 N load, where bonds yield and damage: the same particles to round-off and the
     same bonds to the return's tolerance, and the same answer from one call on the same state. The compiled return
     stops each bond at its own tolerance (10⁻¹² of the scaled residual), the vectorised one iterates every bond

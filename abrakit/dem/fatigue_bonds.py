@@ -25,9 +25,9 @@ import numpy as np
 from abrakit.dem.bonds import _bond_kinematics, candidate_bond_pairs
 from abrakit.dem.contact_laws import _cross, _dot, _turn_into_plane
 from abrakit.dem.kernels import HAVE_NUMBA, fatigue_bond_trial
+from abrakit.fatigue._return_kernel import plastic_return_bonds
 from abrakit.fatigue.bond_law import BondParameters, plastic_return
 from abrakit.fatigue.paris import cycle_update
-from abrakit.fatigue.return_kernel import plastic_return_bonds
 from abrakit.validation import check_option, check_positive
 
 __all__ = ["COMPILED_RETURN", "COMPILED_UPDATE", "FatigueBonds", "install_fatigue_bonds"]
@@ -40,7 +40,7 @@ it to False for the NumPy path (``benchmarks/bench_fatigue_bond_kernel.py`` comp
 
 COMPILED_RETURN = HAVE_NUMBA
 """Whether the compiled update returns its yielding bonds with the compiled return map
-(:func:`abrakit.fatigue.return_kernel.plastic_return_bonds`; the NumPy :func:`~abrakit.fatigue.bond_law.
+(:func:`abrakit.fatigue._return_kernel.plastic_return_bonds`; the NumPy :func:`~abrakit.fatigue.bond_law.
 plastic_return` otherwise, and for the bonds whose step must be split). On the 98-disk beam's monotonic test to
 70 % of its peak it takes the step from 1.4 ms (NumPy update; 1.6 ms with the compiled trial alone) to 0.52 ms, with
 FS_max 5·10⁻⁵ apart (``benchmarks/bench_fatigue_bond_kernel.py``)."""
