@@ -13,9 +13,18 @@ grading, the cycle jump's accuracy against a cycle-by-cycle run, and the S–N c
    yielding bonds frozen (the paper) and extrapolated with one settling cycle; a log-linear fit S = a + b log₁₀ N
    over the levels that reached their life.
 
-Every case is a resumable sweep record (``fatigue_beam_resolution/``, ``fatigue_beam_jump/``, ``fatigue_beam_sn/``:
-a finished case is read back, not recomputed), and the fatigue runs checkpoint every simulated cycle
-(``fatigue_beam_checkpoints/``), so an interrupted study loses at most one cycle of each run.
+4. *Rockers* (issue 37): both tests on the rocker fixture (one specimen for the monotonic and the cyclic test, at
+   the exact spans), per specimen (the Fuller-graded 6 mm packing with seeds 0 and 1, and the 5 mm lattice): the
+   monotonic test, then S–N at the paper's levels of that specimen's own P_max with ΔD_jump = 0.003, the
+   ratcheting extrapolated and one settling cycle (8000 steps per cycle, seating load 10 %), a log-linear fit per
+   specimen and over both graded seeds with its residuals in decades (``fatigue_beam_rockers.png``); and each
+   graded specimen calibrated to the paper's FS_max by similarity (:func:`~abrakit.experiments.bending.
+   scaled_strengths`: strengths, softening displacements and loading speed × FS_paper / FS_max), its monotonic test
+   rerun to show the calibrated FS_max and the unchanged E_f.
+
+Every case is a resumable sweep record (``fatigue_beam_resolution/``, ``fatigue_beam_jump/``, ``fatigue_beam_sn/``,
+``fatigue_beam_rockers_*/``: a finished case is read back, not recomputed), and the fatigue runs checkpoint every
+simulated cycle (``fatigue_beam_checkpoints/``), so an interrupted study loses at most one cycle of each run.
 
     python benchmarks/bench_fatigue_beam.py [--quick] [--outdir DIR]
 
@@ -39,6 +48,8 @@ from abrakit.experiments.bending import (
     four_point_beam,
     measured_cycles,
     monotonic_bending,
+    scaled_strengths,
+    table_two,
 )
 from abrakit.experiments.sweeps import run_sweep
 from abrakit.io import CurveWriter, write_json
@@ -51,16 +62,30 @@ def _spec(params: dict) -> BeamSpec:
     return BeamSpec(radius=params["radius"], seed=params["seed"], grading=params.get("grading", "lattice"))
 
 
+def _beam(params: dict, control: str = "displacement"):
+    """The case's beam: the pads (the stored studies) unless ``fixture`` says "rockers"; Table 2's bonds, their
+    strengths and softening displacements scaled by ``strength_scale`` if given (the calibration)."""
+    bonds = scaled_strengths(table_two(), params.get("strength_scale", 1.0))
+    return four_point_beam(_spec(params), bonds, control=control, fixture=params.get("fixture", "pads"))
+
+
+def _cycles(params: dict) -> dict:
+    """The cyclic test's settings of a case: 2000 steps per cycle from zero load on the pads; the rockers' studies
+    give their own steps and the seating load one-sided supports need."""
+    return {"steps_per_cycle": params.get("steps_per_cycle", 2000),
+            "load_min_ratio": params.get("load_min_ratio", 0.0)}
+
+
 def monotonic_case(params: dict) -> dict:
     spec = _spec(params)
-    beam = four_point_beam(spec)
-    r = monotonic_bending(beam, record_every=200, drop=0.8)
+    beam = _beam(params)
+    r = monotonic_bending(beam, speed=5e-4 * params.get("strength_scale", 1.0), record_every=200, drop=0.8)
     k = int(np.argmax(r["load"]))
     early = (np.arange(len(r["load"])) < k) & (r["load"] < 0.2 * r["load"][k]) & (r["deflection"] > 0)
     modulus = float(np.median(flexural(r["load"][early], r["deflection"][early], spec)["modulus"]))
-    cyclic = four_point_beam(spec, control="force")
+    cyclic = _beam(params, control="force")
     tic = time.perf_counter()
-    cyclic_bending(cyclic, 0.5 * float(r["load"][k]), steps_per_cycle=2000, max_simulated=2)
+    cyclic_bending(cyclic, 0.5 * float(r["load"][k]), max_simulated=2, **_cycles(params))
     return {"particles": len(beam.sim.particles), "bonds": len(beam.sim.fatigue_bonds), "FS_max": r["FS_max"],
             "P_max": float(r["load"][k]), "modulus": modulus, "seconds": r["seconds"], "steps": r["steps"],
             "ms_per_step": 1e3 * r["seconds"] / r["steps"], "seconds_per_cycle": (time.perf_counter() - tic) / 2,
@@ -68,17 +93,16 @@ def monotonic_case(params: dict) -> dict:
 
 
 def fatigue_case(params: dict) -> dict:
-    beam = four_point_beam(_spec(params), control="force")
+    beam = _beam(params, control="force")
     checkpoint = params.get("checkpoint")
     r = cyclic_bending(beam, params["level"] * params["P_max"], jump=params["jump"],
                        plasticity=params.get("plasticity", "frozen"), settle=params.get("settle", 0),
-                       steps_per_cycle=params["steps_per_cycle"],
-                       max_cycles=params["max_cycles"], time_limit=params.get("time_limit"),
+                       **_cycles(params), max_cycles=params["max_cycles"], time_limit=params.get("time_limit"),
                        max_simulated=params.get("max_simulated"), checkpoint=checkpoint)
     return {"life": r["life"], "stopped": r["stopped"], "simulated_cycles": r["simulated_cycles"],
             "seconds": r["seconds"], "cycles": r["cycles"].tolist(), "measured_at": r["measured_at"].tolist(),
             "modulus_ratio": (r["modulus"] / r["modulus"][0]).tolist(), "damaged": r["damaged"].tolist(),
-            "yielding": r["yielding"].tolist()}
+            "yielding": r["yielding"].tolist(), "amplification": r["amplification"]}
 
 
 def _measured(run: dict) -> dict:
@@ -108,6 +132,70 @@ def _curve_error(run: dict, reference: dict) -> float:
     early = {"cycles": np.asarray(run["measured_at"])[keep], "modulus_ratio": np.asarray(run["modulus_ratio"])[keep]}
     return history_deviation(early, {"cycles": reference["measured_at"], "modulus_ratio": ratio},
                              key="modulus_ratio")
+
+
+ROCKERS = {"fixture": "rockers", "steps_per_cycle": 8000, "load_min_ratio": 0.1}
+"""The rocker fixture's cyclic settings: 8000 steps per cycle (the coarse beam's dynamic amplification within 2 % up
+to 77 % of P_max) and a seating load of 10 % of the peak, which one-sided supports need."""
+
+
+def _log_linear(runs: list[dict]) -> dict | None:
+    """S = a + b log₁₀ N over the runs that reached their life, with the residuals in decades of N."""
+    failed = [r for r in runs if r["life"]]
+    if len(failed) < 2:
+        return None
+    lives, levels = np.log10([r["life"] for r in failed]), np.array([r["level"] for r in failed])
+    slope, intercept = np.polyfit(lives, levels, 1)
+    return {"intercept": float(intercept), "slope_per_decade": float(slope), "points": len(failed),
+            "residual_decades": ((levels - intercept) / slope - lives).tolist()}
+
+
+def rocker_study(outdir: Path, checkpoints: Path, quick: bool) -> dict:
+    """Issue 37: both tests on the rocker fixture, per specimen (the Fuller-graded 6 mm packing, two seeds, and the
+    5 mm lattice): the monotonic test, then the S–N levels as fractions of that specimen's own P_max, ΔD_jump =
+    0.003 with the ratcheting extrapolated and one settling cycle, each run at most 20 minutes."""
+    specimens = [("lattice", 5e-3, 0)] if quick else [("fuller", 6e-3, 0), ("fuller", 6e-3, 1), ("lattice", 5e-3, 0)]
+    label = lambda g, radius, seed: f"rockers_{g}{radius * 1e3:.1f}mm_seed{seed}"
+    monotonic = [{**r["params"], **r["result"]} for r in run_sweep(
+        monotonic_case, [{"grading": g, "radius": radius, "seed": seed, "name": label(g, radius, seed), **ROCKERS}
+                         for g, radius, seed in specimens], outdir / f"{NAME}_rockers_monotonic", backend="serial")]
+    calibrated = [{**r["params"], **r["result"]} for r in run_sweep(monotonic_case, [
+        {"grading": m["grading"], "radius": m["radius"], "seed": m["seed"], "name": f"{m['name']}_calibrated",
+         "strength_scale": PAPER["FS_max_kPa"] * 1e3 / m["FS_max"], **ROCKERS}
+        for m in monotonic if m["grading"] == "fuller"], outdir / f"{NAME}_rockers_monotonic", backend="serial")]
+    levels = (0.95, 0.77) if quick else PAPER["levels"]
+    cases = [{"grading": m["grading"], "radius": m["radius"], "seed": m["seed"], "P_max": m["P_max"], **ROCKERS,
+              "max_cycles": 1_000_000, "time_limit": 300 if quick else 1200, "level": level, "jump": 0.003,
+              "plasticity": "extrapolated", "settle": 1,
+              "name": f"{label(m['grading'], m['radius'], m['seed'])}_level{level:.2f}",
+              "checkpoint": str(checkpoints / f"{label(m['grading'], m['radius'], m['seed'])}_{level:.2f}.pkl")}
+             for level in levels for m in monotonic]
+    sn = [_measured({**r["params"], **r["result"]})
+          for r in run_sweep(fatigue_case, cases, outdir / f"{NAME}_rockers_sn", backend="serial")]
+    fits = {m["name"]: _log_linear([r for r in sn if r["name"].startswith(m["name"] + "_")]) for m in monotonic}
+    fits["graded, both seeds"] = _log_linear([r for r in sn if r["grading"] == "fuller"])
+    return {"monotonic": [{k: v for k, v in m.items() if k != "curve"} for m in monotonic], "sn": sn, "fits": fits,
+            "calibrated": [{k: v for k, v in m.items() if k != "curve"} for m in calibrated]}
+
+
+def plot_rockers(rockers: dict, path: Path) -> None:
+    """S–N per specimen on the rockers, and E_f/E_f,0 against N/N_f of the runs that reached their life."""
+    fig, ax = plt.subplots(1, 2, figsize=(11, 4))
+    for k, m in enumerate(rockers["monotonic"]):
+        runs = [r for r in rockers["sn"] if r["name"].startswith(m["name"] + "_")]
+        failed = [r for r in runs if r["life"]]
+        ax[0].semilogx([r["life"] for r in failed], [100 * r["level"] for r in failed], "os^"[k % 3], color=f"C{k}",
+                       label=f"{m['grading']} {m['radius'] * 1e3:.0f} mm, seed {m['seed']} "
+                             f"(FS_max {m['FS_max'] / 1e3:.0f} kPa)")
+        for r in failed:
+            n = np.asarray(r["measured_at"], float)
+            ax[1].plot(n / r["life"], r["modulus_ratio"], "-", lw=0.8, color=f"C{k}")
+    ax[0].set(xlabel="fatigue life N_f", ylabel="stress level [% of the specimen's FS_max]",
+              title="S–N on rockers (ΔD_jump 0.003, ratcheting extrapolated)")
+    ax[0].legend(fontsize=7)
+    ax[1].axhline(0.5, color="grey", lw=0.5)
+    ax[1].set(xlabel="N / N_f", ylabel="E_f / E_f,0", title="modulus degradation, every run that failed")
+    save_figure(fig, path)
 
 
 def main(outdir: Path, quick: bool = False) -> dict:
@@ -156,6 +244,8 @@ def main(outdir: Path, quick: bool = False) -> dict:
             slope, intercept = np.polyfit(np.log10([s["life"] for s in failed]), [s["level"] for s in failed], 1)
             fits[plasticity] = {"intercept": float(intercept), "slope_per_decade": float(slope)}
 
+    rockers = rocker_study(outdir, checkpoints, quick)
+
     columns = ("study", "grading", "radius", "seed", "level", "jump", "plasticity", "particles", "FS_max", "life",
                "life_error", "simulated_cycles", "seconds", "per_unit")
     writer = CurveWriter(outdir / f"{NAME}.csv", columns)
@@ -171,10 +261,21 @@ def main(outdir: Path, quick: bool = False) -> dict:
                          life_error=r.get("life_error") if r.get("life_error") is not None else float("nan"),
                          simulated_cycles=r["simulated_cycles"], seconds=r["seconds"],
                          per_unit=r["seconds"] / max(r["simulated_cycles"], 1))
+    for r in rockers["monotonic"]:
+        writer.write(study="rockers monotonic", grading=r["grading"], radius=r["radius"], seed=r["seed"], level=1.0,
+                     jump=0.0, plasticity="", particles=r["particles"], FS_max=r["FS_max"], life=0, life_error=0.0,
+                     simulated_cycles=0, seconds=r["seconds"], per_unit=r["seconds_per_cycle"])
+    for r in rockers["sn"]:
+        own = next(m for m in rockers["monotonic"] if r["name"].startswith(m["name"] + "_"))
+        writer.write(study="rockers S-N", grading=r["grading"], radius=r["radius"], seed=r["seed"], level=r["level"],
+                     jump=r["jump"], plasticity=r["plasticity"], particles=own["particles"], FS_max=own["FS_max"],
+                     life=r["life"] or 0, life_error=float("nan"), simulated_cycles=r["simulated_cycles"],
+                     seconds=r["seconds"], per_unit=r["seconds"] / max(r["simulated_cycles"], 1))
     writer.close()
+    plot_rockers(rockers, outdir / f"{NAME}_rockers.png")
     strip = lambda rows, drop: [{k: v for k, v in r.items() if k not in drop} for r in rows]
     result = {"resolution": strip(resolution, ("curve",)), "jump": jump_runs, "sn": sn, "sn_fit": fits,
-              "paper": PAPER, "quick": quick}
+              "rockers": rockers, "paper": PAPER, "quick": quick}
     write_json(outdir / f"{NAME}.json", result)
 
     fig, ax = plt.subplots(1, 3, figsize=(15, 4))

@@ -53,8 +53,8 @@ from abrakit.io import RunRecord, VtuSeries, load_state, save_state
 from abrakit.validation import check_number_fields, check_option, check_positive, check_range, number_arguments
 
 __all__ = ["FAILURE_SAG", "QUASI_STATIC_TOLERANCE", "Beam", "BeamSpec", "beam_theory_deflection", "cyclic_bending",
-           "flexural", "four_point_beam", "measured_cycles", "monotonic_bending", "static_deflection", "table_two",
-           "uniaxial_modulus"]
+           "flexural", "four_point_beam", "measured_cycles", "monotonic_bending", "scaled_strengths",
+           "static_deflection", "table_two", "uniaxial_modulus"]
 
 MODULUS = 1.55e9        # E_c of Table 2 [Pa]
 STIFFNESS_RATIO = 2.4   # k_n / k_s of Table 2
@@ -66,6 +66,26 @@ def table_two() -> BondParameters:
     return BondParameters(kn=MODULUS / 5e-3, ks=MODULUS / 5e-3 / STIFFNESS_RATIO, tensile_strength=74e3,
                           cohesion=74e3, un=2e-5, us=2e-5, friction_angle=20.0, dilatancy_angle=10.0,
                           paris_exponent=1.2, paris_coefficient=1.8e-11, threshold=0.84, initial_damage=0.01)
+
+
+def scaled_strengths(params: BondParameters, factor: float) -> BondParameters:
+    """The bond law with its strengths σ_t, c and its softening displacements ū_n, ū_s multiplied by ``factor``:
+    the calibration route of the beam's strength (decision "calibrating the beam's strength by similarity").
+
+    The particles' contacts, the bonds' stiffnesses, the rollers' penalty and the damping are linear, and Eqs. (15–22)
+    are homogeneous of degree one in (σ_t, c, ū, u): scaling the strengths, the softening displacements and the
+    loading speed scales every force and displacement of the monotonic test by ``factor``, up to the geometric
+    non-linearity (the bonds turn with the particles; of the order of the displacement over the radius, 10⁻³) and
+    the settling forces of a graded packing (1 kPa). So FS_max and the strain at the peak scale by ``factor`` and E_f
+    is unchanged (measured within 10⁻³ on the coarse beam at factor 1/2:
+    ``test_scaling_the_strengths_scales_the_monotonic_curve_by_the_same_factor``), which makes the calibration to a
+    target strength one run: factor = FS_target / FS_max. The Paris law (m, C) and the threshold a are left as they
+    are: the fatigue of a calibrated beam is not similar to the uncalibrated one's."""
+    if not isinstance(params, BondParameters):
+        raise TypeError(f"params must be a BondParameters, got {type(params).__name__}")
+    check_positive("factor", factor)
+    return params.replace(tensile_strength=params.tensile_strength * factor, cohesion=params.cohesion * factor,
+                          un=params.un * factor, us=params.us * factor)
 
 
 @dataclass(frozen=True)
