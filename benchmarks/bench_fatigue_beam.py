@@ -150,6 +150,11 @@ def _log_linear(runs: list[dict]) -> dict | None:
             "residual_decades": ((levels - intercept) / slope - lives).tolist()}
 
 
+def _runs_of(specimen: dict, runs: list[dict]) -> list[dict]:
+    """The rocker study's runs of one specimen (named after its monotonic test)."""
+    return [r for r in runs if r["name"].startswith(specimen["name"] + "_")]
+
+
 def rocker_study(outdir: Path, checkpoints: Path, quick: bool) -> dict:
     """Issue 37: both tests on the rocker fixture, per specimen (the Fuller-graded 6 mm packing, two seeds, and the
     5 mm lattice): the monotonic test, then the S–N levels as fractions of that specimen's own P_max, ΔD_jump =
@@ -172,7 +177,7 @@ def rocker_study(outdir: Path, checkpoints: Path, quick: bool) -> dict:
              for level in levels for m in monotonic]
     sn = [_measured({**r["params"], **r["result"]})
           for r in run_sweep(fatigue_case, cases, outdir / f"{NAME}_rockers_sn", backend="serial")]
-    fits = {m["name"]: _log_linear([r for r in sn if r["name"].startswith(m["name"] + "_")]) for m in monotonic}
+    fits = {m["name"]: _log_linear(_runs_of(m, sn)) for m in monotonic}
     fits["graded, both seeds"] = _log_linear([r for r in sn if r["grading"] == "fuller"])
     return {"monotonic": [{k: v for k, v in m.items() if k != "curve"} for m in monotonic], "sn": sn, "fits": fits,
             "calibrated": [{k: v for k, v in m.items() if k != "curve"} for m in calibrated]}
@@ -182,8 +187,7 @@ def plot_rockers(rockers: dict, path: Path) -> None:
     """S–N per specimen on the rockers, and E_f/E_f,0 against N/N_f of the runs that reached their life."""
     fig, ax = plt.subplots(1, 2, figsize=(11, 4))
     for k, m in enumerate(rockers["monotonic"]):
-        runs = [r for r in rockers["sn"] if r["name"].startswith(m["name"] + "_")]
-        failed = [r for r in runs if r["life"]]
+        failed = [r for r in _runs_of(m, rockers["sn"]) if r["life"]]
         ax[0].semilogx([r["life"] for r in failed], [100 * r["level"] for r in failed], "os^"[k % 3], color=f"C{k}",
                        label=f"{m['grading']} {m['radius'] * 1e3:.0f} mm, seed {m['seed']} "
                              f"(FS_max {m['FS_max'] / 1e3:.0f} kPa)")
@@ -237,12 +241,9 @@ def main(outdir: Path, quick: bool = False) -> dict:
                      "checkpoint": str(checkpoints / f"sn_extrapolated_{level:.2f}.pkl")} for level in levels]
     sn = [_measured({**r["params"], **r["result"]})
           for r in run_sweep(fatigue_case, frozen + extrapolated, outdir / f"{NAME}_sn", backend="serial")]
-    fits, lives = {}, {}
-    for plasticity in ("frozen", "extrapolated"):
-        failed = lives[plasticity] = [s for s in sn if s.get("plasticity", "frozen") == plasticity and s["life"]]
-        if len(failed) >= 2:
-            slope, intercept = np.polyfit(np.log10([s["life"] for s in failed]), [s["level"] for s in failed], 1)
-            fits[plasticity] = {"intercept": float(intercept), "slope_per_decade": float(slope)}
+    lives = {plasticity: [s for s in sn if s.get("plasticity", "frozen") == plasticity and s["life"]]
+             for plasticity in ("frozen", "extrapolated")}
+    fits = {plasticity: fit for plasticity, failed in lives.items() if (fit := _log_linear(failed))}
 
     rockers = rocker_study(outdir, checkpoints, quick)
 
@@ -265,12 +266,13 @@ def main(outdir: Path, quick: bool = False) -> dict:
         writer.write(study="rockers monotonic", grading=r["grading"], radius=r["radius"], seed=r["seed"], level=1.0,
                      jump=0.0, plasticity="", particles=r["particles"], FS_max=r["FS_max"], life=0, life_error=0.0,
                      simulated_cycles=0, seconds=r["seconds"], per_unit=r["seconds_per_cycle"])
-    for r in rockers["sn"]:
-        own = next(m for m in rockers["monotonic"] if r["name"].startswith(m["name"] + "_"))
-        writer.write(study="rockers S-N", grading=r["grading"], radius=r["radius"], seed=r["seed"], level=r["level"],
-                     jump=r["jump"], plasticity=r["plasticity"], particles=own["particles"], FS_max=own["FS_max"],
-                     life=r["life"] or 0, life_error=float("nan"), simulated_cycles=r["simulated_cycles"],
-                     seconds=r["seconds"], per_unit=r["seconds"] / max(r["simulated_cycles"], 1))
+    for own in rockers["monotonic"]:
+        for r in _runs_of(own, rockers["sn"]):
+            writer.write(study="rockers S-N", grading=r["grading"], radius=r["radius"], seed=r["seed"],
+                         level=r["level"], jump=r["jump"], plasticity=r["plasticity"], particles=own["particles"],
+                         FS_max=own["FS_max"], life=r["life"] or 0, life_error=float("nan"),
+                         simulated_cycles=r["simulated_cycles"], seconds=r["seconds"],
+                         per_unit=r["seconds"] / max(r["simulated_cycles"], 1))
     writer.close()
     plot_rockers(rockers, outdir / f"{NAME}_rockers.png")
     strip = lambda rows, drop: [{k: v for k, v in r.items() if k not in drop} for r in rows]

@@ -17,6 +17,7 @@ import math
 import numpy as np
 
 from ..compiled import HAVE_NUMBA, njit
+from ..fatigue._return_kernel import elastic_stresses, surface_size, yield_function
 from .contact_laws import PLANE_TOL, RETURN_TOL
 
 __all__ = ["HAVE_NUMBA"]
@@ -318,8 +319,9 @@ def fatigue_bond_trial(i, j, x, v, w, radius, elastic_n, elastic_s, damage, kn, 
     contact plane as :func:`~abrakit.dem.contact_laws._turn_into_plane` does, the trial displacements, the
     elastic stresses of Eq. (15, 16) and the yield test of Eq. (18) with the tolerance of
     :func:`~abrakit.fatigue.bond_law.plastic_return` (F > tol · scale²). Returns ``(n, arm_i, arm_j, point,
-    start_size, trial_n, trial_s, size_s, sigma_n, sigma_s, active)``; the plastic return of the active bonds stays
-    with :func:`~abrakit.fatigue.bond_law.plastic_return`."""
+    start_size, trial_n, trial_s, size_s, sigma_n, sigma_s, active)``; the caller returns the active bonds
+    (:mod:`abrakit.fatigue._return_kernel`, whose Eq. 15, 16 and 18 helpers this loop shares, or
+    :func:`~abrakit.fatigue.bond_law.plastic_return`)."""
     B = i.shape[0]
     n = np.empty((3, B))
     point = np.empty((3, B))
@@ -328,6 +330,7 @@ def fatigue_bond_trial(i, j, x, v, w, radius, elastic_n, elastic_s, damage, kn, 
     start_size, trial_n, size_s = np.empty(B), np.empty(B), np.empty(B)
     sigma_n, sigma_s = np.empty(B), np.empty(B)
     active = np.zeros(B, dtype=np.bool_)
+    alpha2, q0_unit = alpha * alpha, cohesion - tensile_strength * tan_phi
     for b in range(B):
         a, c = i[b], j[b]
         d0, d1, d2 = x[c, 0] - x[a, 0], x[c, 1] - x[a, 1], x[c, 2] - x[a, 2]
@@ -360,13 +363,10 @@ def fatigue_bond_trial(i, j, x, v, w, radius, elastic_n, elastic_s, damage, kn, 
         t0, t1, t2 = e0 + (r0 - vn * n0) * dt, e1 + (r1 - vn * n1) * dt, e2 + (r2 - vn * n2) * dt
         size = math.sqrt(t0 * t0 + t1 * t1 + t2 * t2)
         intact = 1.0 - damage[b]
-        sn = kn[b] * (intact if tn >= 0.0 else 1.0) * tn
-        ss = ks[b] * intact * size
+        sn, ss = elastic_stresses(tn, size, intact, kn[b], ks[b])
         # the yield test of Eq. (18), relative to the surface's size (bond_law._yield_scale)
-        q = cohesion * intact - sn * tan_phi
-        q0 = (cohesion - tensile_strength * tan_phi) * intact
-        f = alpha * alpha * ss * ss - q * abs(q) + q0 * q0
-        surface = cohesion * intact + tan_phi * max(-sn, 0.0)
+        f = yield_function(sn, ss, intact, cohesion, q0_unit, tan_phi, alpha2)
+        surface = surface_size(sn, intact, cohesion, tan_phi)
         active[b] = f > tol * surface * surface
         n[0, b], n[1, b], n[2, b] = n0, n1, n2
         point[0, b] = x[a, 0] + ai * n0

@@ -9,7 +9,7 @@ the same first guess (one linearised return at the trial stress), the same forwa
 backtracking line search and the same tolerance. It differs only where the vectorised version cannot be per-bond:
 there every bond iterates until the slowest has converged, here each bond stops when its own residual is below the
 tolerance, so the results agree to the tolerance, not bit for bit
-(``tests/test_fatigue_bond_law.py::test_the_compiled_return_equals_the_numpy_return_to_its_tolerance``). A bond
+(``tests/test_fatigue_bond.py::test_the_compiled_return_equals_the_numpy_return_to_its_tolerance``). A bond
 whose Newton iteration fails is flagged, and the caller returns it with the NumPy version, which splits its step
 (``start``, ``max_halvings``).
 """
@@ -22,7 +22,30 @@ import numpy as np
 
 from abrakit.compiled import njit
 
-__all__ = ["plastic_return_bonds"]
+__all__ = ["elastic_stresses", "plastic_return_bonds", "surface_size", "yield_function"]
+
+
+@njit(cache=True, inline="always")
+def elastic_stresses(en, es, intact, kn, ks):  # pragma: no cover - compiled where numba is installed
+    """(σ_n, σ_s) of one bond (Eq. 15, 16; ``bond_law._bond_stresses``): degraded stiffness in tension, full in
+    compression."""
+    return kn * (intact if en >= 0.0 else 1.0) * en, ks * intact * es
+
+
+@njit(cache=True, inline="always")
+def yield_function(sn, ss, intact, c, q0_unit, tan_phi, alpha2):  # pragma: no cover - compiled where numba is installed
+    """F of Eq. (18) for one bond (``bond_law._criterion`` at level 1, continued beyond the far branch), with
+    ``q0_unit`` = c − σ_t tan φ and ``alpha2`` = α²."""
+    q = c * intact - sn * tan_phi
+    q0 = q0_unit * intact
+    return alpha2 * (ss * ss) - q * abs(q) + q0 * q0
+
+
+@njit(cache=True, inline="always")
+def surface_size(sn, intact, c, tan_phi):  # pragma: no cover - compiled where numba is installed
+    """The yield surface's size c(1 − D) − σ_n tan φ for compressive σ_n (``bond_law._yield_scale``): F is measured
+    against its square."""
+    return c * intact + tan_phi * max(-sn, 0.0)
 
 
 @njit(cache=True, inline="always")
@@ -30,15 +53,11 @@ def _residual(a, b, lam, tn, ts, d0, kn, ks, scale, un, us, c, tan_phi, tan_psi,
     """The residual of ``bond_law._return_residual`` for one bond, and the damage and stresses at y."""
     d = d0 - (1.0 - d0) * math.expm1(-abs(a * un) / un - abs(b * us) / us)
     intact = 1.0 - d
-    en = tn - a * un
-    sn = kn * (intact if en >= 0.0 else 1.0) * en
-    ss = ks * intact * (ts - b * us)
+    sn, ss = elastic_stresses(tn - a * un, ts - b * us, intact, kn, ks)
     g = lam * us / c
     r0 = a - g * (tan_psi * (c * intact - sn * tan_psi)) / un
     r1 = b - g * ss / us
-    q = c * intact - sn * tan_phi
-    q0 = q0_unit * intact
-    r2 = (alpha2 * (ss * ss) - q * abs(q) + q0 * q0) / (scale * scale)
+    r2 = yield_function(sn, ss, intact, c, q0_unit, tan_phi, alpha2) / (scale * scale)
     return r0, r1, r2, d, sn, ss
 
 
@@ -83,16 +102,14 @@ def plastic_return_bonds(trial_n, trial_s, damage, kn, ks, un, us, c, tensile_st
     for k in range(B):
         tn, ts, d0 = trial_n[k], trial_s[k], damage[k]
         intact = 1.0 - d0
-        sn = kn[k] * (intact if tn >= 0.0 else 1.0) * tn
-        ss = ks[k] * intact * ts
-        scale = c * intact + tan_phi * max(-sn, 0.0)
+        sn, ss = elastic_stresses(tn, ts, intact, kn[k], ks[k])
+        scale = surface_size(sn, intact, c, tan_phi)
         # First guess: one linearised return at the trial stress, damage frozen.
-        q = c * intact - sn * tan_phi
-        q0 = q0_unit * intact
         fn = tan_psi * (c * intact - sn * tan_psi)
-        dfn = 2.0 * tan_phi * abs(q)
+        dfn = 2.0 * tan_phi * abs(c * intact - sn * tan_phi)
         dfs = 2.0 * alpha2 * ss
-        g0 = (alpha2 * (ss * ss) - q * abs(q) + q0 * q0) / (dfn * (kn[k] * intact) * fn + dfs * ks[k] * intact * ss)
+        g0 = (yield_function(sn, ss, intact, c, q0_unit, tan_phi, alpha2)
+              / (dfn * (kn[k] * intact) * fn + dfs * ks[k] * intact * ss))
         y[0], y[1], y[2] = g0 * fn / un, g0 * ss / us, g0 * c / us
         r[0], r[1], r[2], d, sn, ss = _residual(y[0], y[1], y[2], tn, ts, d0, kn[k], ks[k], scale, un, us, c,
                                                 tan_phi, tan_psi, alpha2, q0_unit)
