@@ -50,12 +50,23 @@ def default_threads() -> int:
     return max(1, _cores() // workers)
 
 
+_SET_BY_ABRAKIT = "ABRAKIT_SET_THREADS"
+"""The environment variable that lists the count variables abrakit set itself (not the user): a process started
+by an abrakit process inherits them, and computes them again for itself (with its own ``ABRAKIT_THREADS`` or
+worker count) instead of taking them for the user's word. Without it a benchmark that starts two one-thread runs
+from Python gave each the parent's two threads per pool: both ran twice as slowly."""
+
+
 def configure_threads() -> int:
     """Set the thread policy of the module docstring for this process (where the user has not); returns the count.
-    Called once by ``import abrakit``."""
+    Called once by ``import abrakit``. Variables an abrakit parent process set (:data:`_SET_BY_ABRAKIT`) are set
+    again, the user's are kept."""
     threads = default_threads()
-    for name in _COUNT_VARIABLES:
-        os.environ.setdefault(name, str(threads))
+    inherited = set(os.environ.get(_SET_BY_ABRAKIT, "").split(","))
+    ours = [name for name in _COUNT_VARIABLES if name not in os.environ or name in inherited]
+    for name in ours:
+        os.environ[name] = str(threads)
+    os.environ[_SET_BY_ABRAKIT] = ",".join(ours)
     _limit_loaded(int(os.environ["OPENBLAS_NUM_THREADS"]) if os.environ["OPENBLAS_NUM_THREADS"].isdigit()
                   else threads)
     return threads

@@ -22,7 +22,8 @@ print(json.dumps({"env": {k: os.environ.get(k) for k in ("OMP_WAIT_POLICY", "KMP
 def probe(**env):
     clean = {k: v for k, v in os.environ.items()
              if k not in ("OMP_WAIT_POLICY", "KMP_BLOCKTIME", "OMP_NUM_THREADS", "MKL_NUM_THREADS",
-                          "NUMBA_NUM_THREADS", "OPENBLAS_NUM_THREADS", "ABRAKIT_THREADS", "PYTEST_XDIST_WORKER_COUNT")}
+                          "NUMBA_NUM_THREADS", "OPENBLAS_NUM_THREADS", "ABRAKIT_THREADS", "PYTEST_XDIST_WORKER_COUNT",
+                          "ABRAKIT_SET_THREADS")}
     out = subprocess.run([sys.executable, "-c", PROBE], env=clean | env, capture_output=True, text=True, check=True)
     return json.loads(out.stdout.strip().splitlines()[-1])
 
@@ -33,6 +34,17 @@ def test_workers_share_the_cores_and_the_wait_policy_is_the_libraries():
     assert seen["env"]["OMP_WAIT_POLICY"] is None and seen["env"]["KMP_BLOCKTIME"] is None
     assert seen["env"]["OMP_NUM_THREADS"] == seen["env"]["MKL_NUM_THREADS"] == seen["env"]["NUMBA_NUM_THREADS"] == "1"
     assert seen["pools"] and max(seen["pools"]) == 1          # numpy's OpenBLAS, loaded before abrakit, limited too
+
+
+def test_a_child_of_an_abrakit_process_sets_its_own_counts_and_keeps_the_users():
+    """A process started by an abrakit process inherits the counts abrakit set there; with its own ABRAKIT_THREADS
+    it sets them again (a parent with two threads, a child asked for one), while a count the user set stays."""
+    parent = probe()
+    inherited = {k: v for k, v in parent["env"].items() if v is not None and k.endswith("_NUM_THREADS")}
+    child = probe(**inherited, ABRAKIT_SET_THREADS="OMP_NUM_THREADS,NUMBA_NUM_THREADS,OPENBLAS_NUM_THREADS",
+                  ABRAKIT_THREADS="1")
+    assert child["env"]["OMP_NUM_THREADS"] == child["env"]["NUMBA_NUM_THREADS"] == "1"
+    assert child["env"]["MKL_NUM_THREADS"] == inherited["MKL_NUM_THREADS"]      # not in the list: the user's
 
 
 def test_the_users_settings_are_kept():
