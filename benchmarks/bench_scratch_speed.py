@@ -14,6 +14,9 @@ the named cause (``stopped``).
 Targets of issue 39, measured here (not in a timed test): default scene under 300 s, coarse mesh with the 200 µm
 slide under 240 s, the demo scene under 30 s, on the 2-core machine.
 
+Runs computed with the scene's inexact Newton corrections (``corrections`` column) are compared with the table of
+exact corrections stored before them (:data:`EXACT_CORRECTIONS`, ``against_exact_corrections``).
+
 Every run writes ``scratch_speed/<name>/`` (forces.csv, summary.json, a checkpoint, u.npy at the end) as it goes
 and is resumed by a later call; finished runs are read back. Writes ``scratch_speed.csv``, ``scratch_speed.json`` and
 ``scratch_speed.png``.
@@ -42,8 +45,15 @@ TARGETS_S = {"default": 300.0, "coarse_long": 240.0, "demo_scene": 30.0}
 book (:data:`~abrakit.scratch.scene.DEMO_SCENE`: demo mesh, 30 µm slide on a 100 µm block)."""
 
 COLUMNS = ("name", "mesh", "slide_um", "length_um", "dofs", "increments", "newton_iterations", "cutbacks",
-           "wall_time_s", "target_s", "status", "F_N", "A_g_um2", "f_ab_rates", "f_ab_rates_last_quarter",
-           "f_ab_sections", "f_ab_sections_spread", "F_N_error", "A_g_error", "f_ab_rates_error", "note")
+           "wall_time_s", "target_s", "status", "corrections", "F_N", "A_g_um2", "f_ab_rates",
+           "f_ab_rates_last_quarter", "f_ab_sections", "f_ab_sections_spread", "F_N_error", "A_g_error",
+           "f_ab_rates_error", "note")
+
+EXACT_CORRECTIONS = "scratch_speed_exact_corrections.json"
+"""The table as it stood before the scene's inexact Newton corrections (:data:`~abrakit.scratch.scene.SCENE_FORCING`;
+every correction solved to 10⁻⁸; measured on an earlier machine, an Intel Xeon, where the later ones ran on an AMD
+EPYC): each run computed again with them is compared with its row there (:func:`against_exact`)."""
+COMPARED = ("F_N", "A_g_um2", "f_ab_rates", "f_ab_sections", "wall_time_s", "newton_iterations", "cutbacks")
 
 
 LEVELS = ("demo", "coarse", "default", "fine")
@@ -90,6 +100,7 @@ def row_of(name: str, scene: ScratchScene, summary: dict, folder: Path) -> dict:
         **{k: summary.get(k, np.nan) for k in ("dofs", "increments", "newton_iterations", "cutbacks",
                                                 "wall_time_s")},
         "target_s": TARGETS_S.get(name, np.nan), "status": summary["status"],
+        "corrections": "inexact" if any("inexact corrections" in n for n in summary.get("notes", [])) else "exact",
         "F_N": slide_mean(curves["slide"][second_half], curves["normal_force"][second_half]),
         "A_g_um2": groove.get("A_g_um2", np.nan), "f_ab_rates": rates, "f_ab_rates_last_quarter": last_quarter,
         "f_ab_sections": wake["f_ab_sections"], "f_ab_sections_spread": wake["f_ab_sections_range"],
@@ -133,10 +144,30 @@ def with_errors(rows: dict[str, dict]) -> str | None:
     return references[""]["name"] if references[""] else None
 
 
+def against_exact(rows: dict[str, dict], before: dict[str, dict]) -> dict:
+    """Per finished run with inexact corrections that the table of exact corrections has too: both rows' forces,
+    groove area, f_ab (rates and sections), wall time, Newton iterations and cutbacks, and the changes (relative for
+    F_N and A_g, absolute for f_ab)."""
+    out = {}
+    for name, row in rows.items():
+        old = before.get(name)
+        if row["corrections"] != "inexact" or row["status"] != "finished" or not old or old["status"] != "finished":
+            continue
+        out[name] = {"inexact": {k: row[k] for k in COMPARED}, "exact": {k: old[k] for k in COMPARED},
+                     "change": {"F_N_relative": row["F_N"] / old["F_N"] - 1.0,
+                                "A_g_relative": row["A_g_um2"] / old["A_g_um2"] - 1.0,
+                                "f_ab_rates": row["f_ab_rates"] - old["f_ab_rates"],
+                                "f_ab_sections": row["f_ab_sections"] - old["f_ab_sections"],
+                                "speed_up": old["wall_time_s"] / row["wall_time_s"]}}
+    return out
+
+
 def main(outdir: Path = RESULTS, quick: bool = False) -> dict:
     outdir = Path(outdir)
     started = time.perf_counter()
     rows = {}
+    exact = outdir / EXACT_CORRECTIONS
+    before = {row["name"]: row for row in read_json(exact)["rows"]} if exact.exists() else {}
     for name, scene in planned(quick).items():
         folder = outdir / "scratch_speed" / name
         summary = run_or_resume(folder, scene)
@@ -147,7 +178,7 @@ def main(outdir: Path = RESULTS, quick: bool = False) -> dict:
                 writer.write(**{k: row.get(k, np.nan) for k in COLUMNS})
         results = {"date": time.strftime("%Y-%m-%d %H:%M"), "host": platform.node(), "quick": quick,
                    "reference": reference, "rows": list(rows.values()), "targets_s": TARGETS_S,
-                   "summary": summary_line(rows)}
+                   "summary": summary_line(rows), "against_exact_corrections": against_exact(rows, before)}
         write_json(outdir / "scratch_speed.json", results)
     plot(rows, outdir / "scratch_speed.png")
     results["wall_time_s"] = time.perf_counter() - started

@@ -17,6 +17,7 @@ from abrakit.fem import (
     pardiso_available,
     vector_basis,
 )
+from abrakit.fem.linsolve import kept_factor_gmres
 from abrakit.materials import LinearElastic, VonMisesPlasticity
 
 BACKENDS = ["superlu", "dense", "banded"] + (["pardiso"] if pardiso_available() else [])
@@ -265,3 +266,64 @@ def test_single_precision_is_refused_where_it_does_not_exist():
         DirectSolver("pardiso", precision="half")
     with pytest.raises(ValueError, match="precision='single' needs backend='pardiso'"):
         DirectSolver("superlu", precision="single")
+
+
+def perturbed(K, size, seed=2):
+    """K with its values scaled by 1 + size·(random in [−1, 1]), in K's own pattern: the next Newton tangent."""
+    rng = np.random.default_rng(seed)
+    return sp.csr_matrix((K.data * (1.0 + size * rng.uniform(-1.0, 1.0, K.nnz)), K.indices, K.indptr),
+                         shape=K.shape)
+
+
+@pytest.mark.parametrize("backend", ["superlu"] + (["pardiso"] if pardiso_available() else []))
+def test_inexact_corrections_with_kept_factors_meet_the_forcing_term_without_a_factorisation(backend):
+    """forcing = η: within a step, a tangent close to the factorised one is solved by GMRES preconditioned with the
+    kept factors to ‖b − K x‖ ≤ η ‖b‖, with no new factorisation; a new step factorises; a tangent far from the
+    kept factors (here every value changed by up to ±90 %) is factorised after all and solved to check_tol."""
+    K0 = unsymmetric(elastic_matrix())
+    rhs = np.random.default_rng(1).standard_normal(K0.shape[0])
+    solver = DirectSolver(backend, forcing=0.03, krylov_iterations=8)
+    solver.solve(K0, rhs, new_step=True)
+    assert solver.factorisations == 1
+    K1 = perturbed(K0, 0.02)
+    x = solver.solve(K1, rhs, new_step=False)
+    assert solver.factorisations == 1 and solver.krylov_solves == 1 and 1 <= solver.gmres_iterations <= 8
+    assert np.linalg.norm(rhs - K1 @ x) <= 0.03 * np.linalg.norm(rhs)
+    assert np.linalg.norm(rhs - K1 @ x) > 1e-8 * np.linalg.norm(rhs)       # inexact: no refinement to check_tol
+    solver.solve(K1, rhs, new_step=True)
+    assert solver.factorisations == 2
+    K2 = perturbed(K0, 0.9, seed=5)
+    x = solver.solve(K2, rhs, new_step=False)
+    assert solver.krylov_fallbacks == 1 and solver.factorisations == 3
+    assert np.linalg.norm(rhs - K2 @ x) <= 1e-8 * np.linalg.norm(rhs)
+
+
+def test_kept_factor_gmres_is_exact_with_the_matrix_own_factors_and_meets_its_tolerance_on_the_true_residual():
+    """With K's own LU as the preconditioner GMRES converges in one iteration to round-off. With a Jacobi
+    preconditioner every returned x meets ‖b − K x‖ ≤ rtol ‖b‖ on K itself (right preconditioning), a tighter rtol
+    never needs fewer iterations (GMRES's residual is non-increasing), and too few iterations give None, not a
+    wrong x. A zero right-hand side needs no iteration."""
+    K = unsymmetric(elastic_matrix())
+    b = np.random.default_rng(4).standard_normal(K.shape[0])
+    lu = spla.splu(sp.csc_matrix(K))
+    x, iterations = kept_factor_gmres(K, b, lu.solve, 1e-10, 5)
+    assert iterations == 1 and np.linalg.norm(b - K @ x) <= 1e-10 * np.linalg.norm(b)
+    jacobi = sp.diags(1.0 / K.diagonal())
+    needed = []
+    for rtol in (0.5, 0.2, 0.1, 0.05, 0.02):
+        x, iterations = kept_factor_gmres(K, b, lambda v: jacobi @ v, rtol, 200)
+        assert x is not None and np.linalg.norm(b - K @ x) <= rtol * np.linalg.norm(b) * (1 + 1e-6)
+        needed.append(iterations)
+    assert needed == sorted(needed) and needed[-1] > needed[0]
+    assert kept_factor_gmres(K, b, lambda v: jacobi @ v, 0.02, needed[-1] - 1) == (None, needed[-1] - 1)
+    x, iterations = kept_factor_gmres(K, np.zeros_like(b), lu.solve, 1e-3, 5)
+    assert iterations == 0 and not x.any()
+
+
+def test_the_forcing_term_and_the_krylov_iterations_are_checked():
+    with pytest.raises(ValueError, match="forcing"):
+        DirectSolver("superlu", forcing=1.0)
+    with pytest.raises(ValueError, match="forcing"):
+        DirectSolver("superlu", forcing=-0.1)
+    with pytest.raises(ValueError, match="krylov_iterations"):
+        DirectSolver("superlu", forcing=0.1, krylov_iterations=0)

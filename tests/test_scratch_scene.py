@@ -9,7 +9,7 @@ import math
 import numpy as np
 import pytest
 
-from abrakit.fem import NewtonOptions, StepContext, pardiso_available
+from abrakit.fem import Dirichlet, NewtonOptions, Solver, StepContext, pardiso_available
 from abrakit.scratch import SphericalIndenter
 from abrakit.scratch.contact import SLIP, STICK
 from abrakit.scratch.contact_term import IndenterContact, nodal_areas, surface_facets
@@ -21,6 +21,8 @@ from abrakit.scratch.scene import (
     build_specimen,
     hertz_indentation,
     run_scratch,
+    scene_linear_solver,
+    st52_material,
     zoned_axis,
 )
 
@@ -353,10 +355,12 @@ def test_a_killed_scratch_resumes_with_the_uninterrupted_increments_curves_and_g
     With the same direct solver (SuperLU: deterministic) the curves, grooves, final state and counters equal the
     uninterrupted run's exactly, forces.csv holds each increment once and the VTU series has no stale file.
     (PARDISO's fresh analysis after a resume changes the round-off, about 1e-14 relative; where a Newton step is
-    borderline that can decide a cutback, and the increments then differ within the tolerances.)"""
+    borderline that can decide a cutback, and the increments then differ within the tolerances.) Exact Newton
+    corrections (``inexact=False``): the inexact ones take this scene through one cutback only, before increment
+    11; their resume is pinned by the next test."""
     def run(directory, **options):
         return run_scratch(RESUME_SCENE, output=tmp_path / directory, vtu_every=3, checkpoint_every=4,
-                           linear_solver="lu", newton=RESUME_NEWTON, **options)
+                           linear_solver="lu", newton=RESUME_NEWTON, inexact=False, **options)
 
     full = run("full")
     with monkeypatch.context() as patch:
@@ -384,6 +388,40 @@ def test_a_killed_scratch_resumes_with_the_uninterrupted_increments_curves_and_g
     np.testing.assert_array_equal(csv["normal_force"], full.curves["normal_force"])
     vtu = sorted(p.name for p in (tmp_path / "cut" / "fields").glob("*.vtu"))
     assert vtu == sorted(p.name for p in (tmp_path / "full" / "fields").glob("*.vtu"))
+
+def test_the_scene_takes_inexact_corrections_unless_told_otherwise():
+    """run_scratch and scene_linear_solver take SCENE_FORCING's corrections by default (inexact=True), exact ones
+    with inexact=False, and refuse anything that is not a bool."""
+    specimen = build_specimen(ScratchScene(depth=0.0008, slide=0.008, mesh=TINY_MESH, size=TINY_BLOCK))
+    solver = Solver(specimen.basis, st52_material(), [Dirichlet.on(specimen.basis, "bottom")])
+    assert scene_linear_solver(solver, "lu").forcing == 0.03
+    assert scene_linear_solver(solver, "lu", inexact=False).forcing == 0.0
+    with pytest.raises(TypeError, match="inexact"):
+        scene_linear_solver(solver, "lu", inexact=None)
+
+
+def test_a_killed_scratch_with_inexact_corrections_resumes_with_the_uninterrupted_increments(tmp_path, monkeypatch):
+    """SCENE_FORCING's kept factors are those of the increment's own first iteration (a new increment always
+    factorises), so a resumed run, whose solver starts without factors, takes the same corrections: killed after
+    increment 14 and resumed, its curves, final state and counters equal the uninterrupted run's exactly."""
+    def run(directory, **options):
+        return run_scratch(RESUME_SCENE, output=tmp_path / directory, vtu_every=0, checkpoint_every=4,
+                           linear_solver="lu", newton=RESUME_NEWTON, inexact=True, **options)
+
+    full = run("full")
+    assert any("inexact corrections" in note for note in full.notes)
+    with monkeypatch.context() as patch:
+        killed_after(patch, 14)
+        with pytest.raises(KeyboardInterrupt):
+            run("cut")
+    resumed = run("cut", resume=True)
+    for name, values in full.curves.items():
+        if name != "wall_time":
+            np.testing.assert_array_equal(resumed.curves[name], values, err_msg=name)
+    np.testing.assert_array_equal(resumed.u, full.u)
+    assert (resumed.newton_iterations, resumed.cutbacks, resumed.increments) == \
+        (full.newton_iterations, full.cutbacks, full.increments)
+
 
 
 def test_resume_refuses_the_checkpoint_of_another_scene(tmp_path, monkeypatch):
@@ -544,6 +582,26 @@ def test_reused_element_tangents_change_no_groove_beyond_the_newton_tolerance():
         assert g_kept.groove_area == pytest.approx(g_full.groove_area, rel=RTOL_REUSE)
         assert g_kept.degree_of_wear == pytest.approx(g_full.degree_of_wear, abs=RTOL_REUSE)
     assert abs(kept.budget.residual) <= 1e-9 * kept.budget.groove
+
+
+def test_inexact_corrections_with_kept_factors_change_no_groove_beyond_the_newton_tolerance():
+    """SCENE_FORCING: within an increment the scene's direct solver first takes GMRES corrections, preconditioned
+    with factors kept from an earlier iteration, to 3 % of the residual; Newton's residual stays exact, so the
+    grooves are those of exact corrections within the spread a path-dependent scene shows between runs that differ
+    in round-off (RTOL_REUSE), in about as many iterations, with fewer factorisations. Measured: 104 against 108
+    iterations, F_N 0.45 %, F_T 0.6 %, A_g 0.1 %, f_ab 0.004 apart."""
+    scene = ScratchScene(depth=0.0008, slide=0.008, mesh=TINY_MESH, size=TINY_BLOCK, unload_steps=2)
+    inexact = run_scratch(scene, vtu_every=0, linear_solver="lu", inexact=True)
+    exact = run_scratch(scene, vtu_every=0, linear_solver="lu", inexact=False)
+    assert any("inexact corrections" in note for note in inexact.notes)
+    assert not any("inexact corrections" in note for note in exact.notes)
+    assert inexact.newton_iterations <= 1.1 * exact.newton_iterations
+    assert inexact.mean_normal_force == pytest.approx(exact.mean_normal_force, rel=RTOL_REUSE)
+    assert inexact.mean_tangential_force == pytest.approx(exact.mean_tangential_force, rel=RTOL_REUSE)
+    for g_in, g_ex in ((inexact.groove_loaded, exact.groove_loaded), (inexact.groove_unloaded, exact.groove_unloaded)):
+        assert g_in.groove_area == pytest.approx(g_ex.groove_area, rel=RTOL_REUSE)
+        assert g_in.degree_of_wear == pytest.approx(g_ex.degree_of_wear, abs=RTOL_REUSE)
+    assert abs(inexact.budget.residual) <= 1e-9 * inexact.budget.groove
 
 
 @pytest.mark.slow

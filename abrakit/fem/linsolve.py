@@ -30,8 +30,8 @@ from scipy.sparse.csgraph import reverse_cuthill_mckee
 
 from ..validation import all_finite, check_option, check_positive, check_range, number_arguments
 
-__all__ = ["AMGSolver", "BACKENDS", "DirectSolver", "LinearSolveError", "make_linear_solver", "pardiso_available",
-           "rigid_body_modes"]
+__all__ = ["AMGSolver", "BACKENDS", "DirectSolver", "LinearSolveError", "kept_factor_gmres", "make_linear_solver",
+           "pardiso_available", "rigid_body_modes"]
 
 # 3D problems with more free DOFs than this use AMG under linear_solver="auto" (benchmarks/bench_linear_solvers.py,
 # elastic hex block, factorisation + solve against AMG set-up + CG): with PARDISO 0.79 s vs 1.12 s at 28k DOFs and
@@ -318,19 +318,32 @@ class DirectSolver:
         tangent whose single factors do not refine to ``check_tol`` (too ill-conditioned for float32) is solved
         again with double factors, and the solver stays with them (``precision_fallbacks`` counts it). Only
         the PARDISO back-end has it.
+    forcing : 0 (the default: every call factorises and solves to ``check_tol``) or the forcing term η of an
+        inexact Newton method (Eisenstat and Walker, 1996), 0 < η < 1: a call within a load step
+        (``new_step=False``) first solves K x = b by GMRES preconditioned with the factors *kept* from an earlier
+        matrix (:func:`kept_factor_gmres`, at most ``krylov_iterations`` iterations) and returns the first x with
+        ‖b − K x‖ ≤ η ‖b‖; only if that fails is K factorised. Newton then converges with corrections of relative
+        error η instead of exact ones: to the same solution, in about as many iterations where η is well below the
+        iteration's own contraction (measured on the scratch: see :data:`abrakit.scratch.scene.SCENE_FORCING`).
+        Counters ``krylov_solves`` (corrections taken from it), ``krylov_fallbacks`` (factorised after all) and
+        ``gmres_iterations`` (each one solve with the kept factors and one product with K).
 
     Counters: ``analyses``, ``factorisations``, ``solves`` and the seconds spent in each (``times``).
     """
 
     @number_arguments
     def __init__(self, backend: str = "auto", order: np.ndarray | None = None, check_tol: float = 1e-8,
-                 refinements: int = 2, precision: str = "double"):
+                 refinements: int = 2, precision: str = "double", forcing: float = 0.0,
+                 krylov_iterations: int = 8):
         check_option("backend", backend, BACKENDS)
         check_option("precision", precision, ("double", "single"))
         if precision == "single" and backend != "pardiso":
             raise ValueError(f"precision='single' needs backend='pardiso', got backend={backend!r}")
         check_positive("check_tol", check_tol)
         check_range("refinements", refinements, 0, None)
+        self.forcing = check_range("forcing", forcing, 0.0, 1.0, high_open=True)
+        self.krylov_iterations = int(check_range("krylov_iterations", krylov_iterations, 1, None))
+        self.krylov_solves = self.krylov_fallbacks = self.gmres_iterations = 0
         self.refinements = int(refinements)
         self._order = order
         self.precision = precision
@@ -390,6 +403,10 @@ class DirectSolver:
             return np.zeros_like(rhs)
         same = (self._pattern is not None and np.array_equal(self._pattern[0], K.indptr)
                 and np.array_equal(self._pattern[1], K.indices))
+        if self.forcing and same and not new_step and rhs.ndim == 1 and self.factorisations:
+            x = self._kept_factor_solve(K, rhs)
+            if x is not None:
+                return x
         for attempt in range(2):
             if attempt == 1 and self.precision == "single":
                 self.precision = "double"                                          # factors too coarse for K
@@ -405,6 +422,19 @@ class DirectSolver:
             if x is not None:
                 return x
         raise LinearSolveError(f"{self.name} produced an inaccurate or non-finite solution (singular tangent?)")
+
+    def _kept_factor_solve(self, K, rhs: np.ndarray) -> np.ndarray | None:
+        """The inexact solve of ``forcing`` (class docstring), None if GMRES does not reach it."""
+        t0 = time.perf_counter()
+        x, iterations = kept_factor_gmres(K, rhs, self.backend.solve, self.forcing, self.krylov_iterations)
+        self.times["solve"] += time.perf_counter() - t0
+        self.solves += iterations
+        self.gmres_iterations += iterations
+        if x is None:
+            self.krylov_fallbacks += 1
+        else:
+            self.krylov_solves += 1
+        return x
 
     def _refined(self, K, rhs: np.ndarray) -> np.ndarray | None:
         """The solution of K x = rhs with the current factors and up to ``refinements`` steps of iterative
@@ -436,6 +466,42 @@ class DirectSolver:
         if not all_finite(x):
             raise LinearSolveError(f"{self.name}: non-finite solution with the kept factors")
         return x
+
+
+def kept_factor_gmres(K, b: np.ndarray, precondition, rtol: float, max_iterations: int
+                      ) -> tuple[np.ndarray | None, int]:
+    """x with ‖b − K x‖ ≤ rtol ‖b‖ by GMRES from x = 0, right-preconditioned by ``precondition`` (x ↦ M⁻¹ x, e.g.
+    the solve of factors kept from an earlier K), in at most ``max_iterations`` iterations (one cycle, no restart).
+    Returns (x, iterations), or (None, iterations) if the tolerance is not reached or x is not finite.
+
+    Right preconditioning (K M⁻¹ y = b, x = M⁻¹ y) makes GMRES minimise the true residual ‖b − K x‖ over the
+    Krylov space, so the tolerance is tested on K itself (Saad, Iterative Methods for Sparse Linear Systems, 2003,
+    Alg. 9.5); the Hessenberg least-squares problem of at most ``max_iterations`` columns is solved afresh in each
+    iteration (``numpy.linalg.lstsq``: a few microseconds at this size). The returned x is checked once more
+    against ‖b − K x‖, which guards the recurrence against round-off in the kept (possibly single) factors."""
+    scale = _norm(b)
+    if scale == 0.0:
+        return np.zeros_like(b), 0
+    V = np.empty((max_iterations + 1, b.size))
+    Z = np.empty((max_iterations, b.size))
+    H = np.zeros((max_iterations + 1, max_iterations))
+    V[0] = b / scale
+    for j in range(max_iterations):
+        Z[j] = precondition(V[j])
+        w = K @ Z[j]
+        for i in range(j + 1):                                    # modified Gram–Schmidt
+            H[i, j] = np.dot(V[i], w)
+            w -= H[i, j] * V[i]
+        H[j + 1, j] = _norm(w)
+        e1 = np.zeros(j + 2)
+        e1[0] = scale
+        y = np.linalg.lstsq(H[:j + 2, :j + 1], e1, rcond=None)[0]
+        if _norm(e1 - H[:j + 2, :j + 1] @ y) <= rtol * scale or H[j + 1, j] == 0.0:
+            x = Z[:j + 1].T @ y
+            ok = all_finite(x) and _norm(b - K @ x) <= rtol * scale * (1.0 + 1e-6)
+            return (x if ok else None), j + 1
+        V[j + 1] = w / H[j + 1, j]
+    return None, max_iterations
 
 
 def _norm(a: np.ndarray) -> float:

@@ -28,9 +28,10 @@ through it) and after unloading — with :func:`~abrakit.scratch.groove.groove_m
 
 Speed (profiled with pyinstrument): the half model, grading, nodal contact (no new matrix couplings), a sparse
 LU in a geometric nested-dissection order (5–9× faster than SuperLU's own orderings on these tensor grids; a
-stale factorisation as GMRES preconditioner did not pay, since plastic points switching between elastic and
-plastic change the tangent too much between iterations; an AMG-preconditioned GMRES with a reused hierarchy is
-the option for large meshes), a backtracking line search that keeps Newton from cycling across the kinks of
+stale factorisation as GMRES preconditioner did not pay for exact solves, since plastic points switching between
+elastic and plastic change the tangent too much between iterations, but it does for inexact Newton corrections,
+:data:`SCENE_FORCING`, below; an AMG-preconditioned GMRES with a reused hierarchy is the option for large
+meshes), a backtracking line search that keeps Newton from cycling across the kinks of
 contact and plasticity (fewer cut-backs), and Model II's damage sweep skips every point whose driving force is
 below the threshold (Φ_d < 0). Every increment starts from the last converged state (``StepControl(extrapolate=
 False)``): extrapolating the last increment pushes the nodes ahead of a moving tip into it or away from it, and
@@ -85,6 +86,20 @@ z by the tip's advance (a steady translation of the field), whose first residual
 plastic set then toggles for 8–13 iterations per increment, with three cutbacks in the first 6 µm; and a line
 search that keeps a full Newton step up to twice the residual (``growth_allowed = 2``): 384 iterations, 9
 cutbacks, 108 s.
+
+Third round (issue 39): inexact Newton corrections (:data:`SCENE_FORCING`). Within an increment the correction is
+first sought by GMRES on the current tangent, preconditioned with the factors kept from the increment's last
+factorisation, to 3 % of the residual (Eisenstat and Walker's forcing term η = 0.03) in at most eight iterations
+(:func:`~abrakit.fem.linsolve.kept_factor_gmres`); only if that fails is the tangent factorised. An exact solve
+with stale factors needs 25–30 GMRES iterations (above), a 3 % one three to eight: most corrections of an
+increment's later iterations, where the plastic set moves by tens to hundreds of points, come from the kept
+factors, and Newton, whose residual falls only about tenfold per iteration anyway, needs as many iterations. The
+first iteration of an increment always factorises (nodes newly in contact). Measured on the coarse mesh's 100 µm
+slide, one thread each, the machine shared with two other runs: 508 against 510 Newton iterations, 191 against 489
+factorisations, 41 against 57 s in the linear solver, 98 against 115 s in all; F_N, F_T within 0.1 %, A_g within
+10⁻⁴, f_ab within 0.001. With η = 0.1 and five iterations the corrections are too coarse (607 iterations, 109 s);
+with η = 0.01 and eight, too many GMRES runs fail (a 30 µm slide: 248 against 213 iterations, no time saved).
+``benchmarks/bench_scratch_speed.py`` compares every level with and without (``against_exact_corrections``).
 Units: N, mm, MPa (µm values written as mm).
 """
 
@@ -455,8 +470,9 @@ class ReusedPreconditioner:
     GMRES always sees K itself (the contact tangent is non-symmetric in slip).
 
     Measured on the scratch ("default" mesh, 24 000 DOFs): a stale *LU* as preconditioner needs 25–30 GMRES
-    iterations, as costly as a fresh factorisation, because plastic points switching between elastic and plastic
-    change the tangent too much; reuse pays for the AMG hierarchy only, and below 120 000 DOFs the direct solver
+    iterations to this ``rtol``, as costly as a fresh factorisation, because plastic points switching between
+    elastic and plastic change the tangent too much (to the 3 % of an inexact Newton correction it needs three to
+    eight: :data:`SCENE_FORCING`); reuse pays for the AMG hierarchy only, and below 120 000 DOFs the direct solver
     with a kept analysis (:class:`~abrakit.fem.DirectSolver`) is faster.
     """
 
@@ -504,22 +520,39 @@ class ReusedPreconditioner:
         raise LinearSolveError("GMRES with a fresh AMG preconditioner did not converge")
 
 
-def scene_linear_solver(solver: Solver, kind: str = "auto"):
+SCENE_FORCING = {"forcing": 0.03, "krylov_iterations": 8}
+"""Inexact Newton corrections of a scene's direct solvers (:class:`~abrakit.fem.DirectSolver` ``forcing``): within
+an increment, GMRES preconditioned with the factors kept from the increment's last factorisation, to 3 % of the
+residual in at most eight iterations, before a new factorisation. They pay where a factorisation is dear against a
+GMRES iteration. ``benchmarks/bench_kept_factors.py`` measures it on the coarse mesh's 100 µm slide, one thread
+per process (two side by side) and two threads alone, in one sitting: 91 → 75 s and 54 → 44 s, as many Newton
+iterations (508/510, 515/529), 191 and 194 factorisations instead of 489 and 530; F_N, A_g within 3·10⁻⁴ and f_ab
+within 0.001 of the exact corrections. On the default scene and the coarse mesh's 200 µm slide, two threads,
+separate sittings of the same hour, the exact and inexact runs took 276.1 and 276.3 s, 258.8 and 255.0 s: the
+gain shrinks where a GMRES iteration's solve grows with the factors. The machine's hour changes such timings by
+±15 %; ``benchmarks/bench_scratch_speed.py`` compares every level with the exact corrections stored before."""
+
+
+def scene_linear_solver(solver: Solver, kind: str = "auto", inexact: bool = True):
     """The linear solver of a 3D contact scene for ``solver``'s free DOFs, all keeping their analysis across
     Newton iterations: ``"pardiso"`` (:class:`~abrakit.fem.DirectSolver` on MKL PARDISO, METIS order, factors in
     single precision refined to the double answer, see the module docstring), ``"lu"``
     (the same on SuperLU in the :func:`nested_dissection` order), ``"amg"`` (GMRES with a reused AMG hierarchy,
     the rigid-body modes as near-null space) or ``"auto"`` (PARDISO if installed, else LU; AMG above 120 000
-    free DOFs)."""
+    free DOFs). ``inexact``: the direct solvers' corrections within an increment by GMRES with kept factors
+    (:data:`SCENE_FORCING`; False: every correction exact)."""
     check_option("linear_solver", kind, ("auto", "pardiso", "lu", "amg"))
+    if not isinstance(inexact, bool):
+        raise TypeError(f"inexact must be True or False, got {inexact!r}")
+    forcing = SCENE_FORCING if inexact else {}
     free = solver.constraints.free
     if kind == "auto":
         kind = "amg" if free.size > 120_000 else ("pardiso" if pardiso_available() else "lu")
     points = solver.kin.basis.doflocs[:, free]
     if kind == "pardiso":
-        return DirectSolver("pardiso", precision="single")
+        return DirectSolver("pardiso", precision="single", **forcing)
     if kind == "lu":
-        return DirectSolver("superlu", order=nested_dissection(points))
+        return DirectSolver("superlu", order=nested_dissection(points), **forcing)
     component = np.zeros(solver.kin.ndof, dtype=int)
     component[solver.kin.element_dofs] = np.arange(solver.kin.nbf) % 3
     return ReusedPreconditioner(near_null_space=rigid_body_modes(points, component[free]))
@@ -645,7 +678,8 @@ class ScratchResult:
     removed: :class:`~abrakit.scratch.groove.RemovedMaterial` near mid-length (damage runs), None otherwise;
     mean_normal_force / mean_tangential_force: means over the slide distance of its steady part (after one
     footprint diameter of travel; :func:`~abrakit.scratch.record.slide_mean`, robust to cutbacks); u, state: the
-    final displacement and material state.
+    final displacement and material state; solver_counts: the linear solver's counters (:data:`SOLVER_COUNTS`)
+    and the seconds of its analyses, factorisations and solves.
     """
 
     scene: ScratchScene
@@ -671,6 +705,7 @@ class ScratchResult:
     budget: VolumeBudget | None = None
     output: Path | None = None
     notes: list = field(default_factory=list)
+    solver_counts: dict = field(default_factory=dict)
 
     def summary(self) -> dict:
         """JSON-ready numbers of the run (µm and µm² for lengths and areas, N for forces)."""
@@ -687,7 +722,8 @@ class ScratchResult:
             "slide_um": s.slide * 1e3, "mu": s.mu, "penalty": s.penalty, "material": s.material,
             "damage": s.damage, "elements": self.n_elements, "dofs": self.n_dofs, "increments": self.increments,
             "newton_iterations": self.newton_iterations, "cutbacks": self.cutbacks, "wall_time_s": self.wall_time,
-            "linear_solver": self.linear_solver, "mean_normal_force_N": self.mean_normal_force,
+            "linear_solver": self.linear_solver, "solver_counts": dict(self.solver_counts),
+            "mean_normal_force_N": self.mean_normal_force,
             "mean_tangential_force_N": self.mean_tangential_force,
             "max_normal_force_N": float(np.max(self.curves["normal_force"], initial=0.0)),
             "groove_loaded": metrics(self.groove_loaded), "groove_unloaded": metrics(self.groove_unloaded),
@@ -791,13 +827,20 @@ def surface_nodes_of(mesh, nodes):
     return lambda removed: incidence @ removed.astype(float) >= count
 
 
+SOLVER_COUNTS = ("analyses", "factorisations", "solves", "krylov_solves", "krylov_fallbacks", "gmres_iterations",
+                 "precision_fallbacks")
+"""The linear solver's counters a :class:`ScratchResult` keeps (``solver_counts``, with the seconds of its
+analyses, factorisations and solves)."""
+
+
 def run_scratch(scene: ScratchScene = ScratchScene(), *, output=None, progress: bool = False, vtu_every: int = 10,
                 linear_solver: str = "auto", newton: NewtonOptions | None = None, checkpoint_every: int = 10,
-                resume: bool = False) -> ScratchResult:
+                resume: bool = False, inexact: bool = True) -> ScratchResult:
     """Run the single scratch ``scene``; write ``forces.csv``, ``fields/step.pvd`` and ``summary.json`` to
     ``output`` (if given) as it goes; return a :class:`ScratchResult`.
 
-    ``linear_solver``: "pardiso", "lu", "amg" or "auto", see :func:`scene_linear_solver`.
+    ``linear_solver``: "pardiso", "lu", "amg" or "auto", and ``inexact`` (corrections within an increment by GMRES
+    with kept factors, :data:`SCENE_FORCING`), see :func:`scene_linear_solver`.
     ``vtu_every``: field output every that many increments (and at the end of every phase); 0 disables it.
     ``checkpoint_every``: with ``output``, save ``last_converged.npz`` every that many increments and at the end of
     every phase (0: at phase ends only; :mod:`abrakit.scratch.checkpoint`). ``resume=True`` continues from that
@@ -839,7 +882,7 @@ def run_scratch(scene: ScratchScene = ScratchScene(), *, output=None, progress: 
     solver = LineSearchSolver(basis, material, specimen.conditions, loading=loading, extra_terms=[contact],
                               newton=newton, linear_solver="direct", bbar=scene.bbar,
                               finite_strain=finite)
-    solver.linear_solver = scene_linear_solver(solver, linear_solver)
+    solver.linear_solver = scene_linear_solver(solver, linear_solver, inexact)
 
     out = Path(output) if output is not None else None
     extra = (lambda st: {"effective_damage": material.effective_damage(st).mean(axis=1)}) if scene.damage else None
@@ -948,11 +991,17 @@ def run_scratch(scene: ScratchScene = ScratchScene(), *, output=None, progress: 
             f"surface nodes in slip along a frozen direction; they carried at most "
             f"{100 * max(h[2] for h in contact.holds):.2g} % of the contact's Coulomb force sum(A mu p){during}")
     ls = solver.linear_solver
+    result.solver_counts = {key: getattr(ls, key) for key in SOLVER_COUNTS if hasattr(ls, key)}
+    if hasattr(ls, "times"):
+        result.solver_counts.update({f"{key}_s": seconds for key, seconds in ls.times.items()})
     if hasattr(ls, "factorisations"):
         result.notes.append(f"linear solver {ls.name}: {ls.analyses} analyses, {ls.factorisations} numerical "
                             f"factorisations ({ls.times['factorise']:.1f} s), {ls.solves} solves"
                             + (f", {ls.precision_fallbacks} fallback from single to double factors"
-                               if getattr(ls, "precision_fallbacks", 0) else ""))
+                               if getattr(ls, "precision_fallbacks", 0) else "")
+                            + (f"; {ls.krylov_solves} inexact corrections with kept factors ({ls.gmres_iterations} "
+                               f"GMRES iterations, {ls.krylov_fallbacks} refactorised)"
+                               if getattr(ls, "forcing", 0) else ""))
     if hasattr(ls, "builds"):
         result.notes.append(f"linear solver {ls.name}: {ls.builds} factorisations, "
                             f"{int(np.sum(ls.iterations))} Krylov iterations for {len(ls.iterations)} solves")
@@ -1061,7 +1110,7 @@ def hertz_indentation(h: float, penalty: float = 1.0, *, R: float = 0.05, d: flo
                               control=StepControl(initial=1.0 / steps, maximum=1.0 / steps, minimum=1e-4),
                               newton=NewtonOptions(residual_tol=1e-8, max_iterations=30, divergence_check_after=30),
                               linear_solver="direct")
-    solver.linear_solver = scene_linear_solver(solver, linear_solver)
+    solver.linear_solver = scene_linear_solver(solver, linear_solver, inexact=False)   # the Hertz check: exact
     depths, forces = [0.0], [0.0]
 
     def on_step(result):
