@@ -209,6 +209,7 @@ def planned(quick: bool) -> dict[str, ScratchScene]:
     plan.update({f"{name}_{level}": plan[name].with_(mesh=level) for name in DAMAGE_RUNS for level in GRAIN_LEVELS})
     plan.update({name: plan[base].with_(slide=slide, size=(0.1, 0.015, slide + 0.1))
                  for name, (base, slide) in SLIDE_STUDY.items()})
+    plan.update({name: plan[source].with_(**changes) for name, (source, changes) in STEADY_VARIANTS.items()})
     return plan
 
 
@@ -228,18 +229,32 @@ GRAIN_LEVELS = ("coarse",)
 
 SLIDE_STUDY = {"fbar_R100_d1.75um_coarse_400um": ("fbar_R100_d1.75um_coarse", 0.4),
                "grain_100um_coarse_400um": ("grain_100um_coarse", 0.4),
-               "finite_fbar_400um": ("finite_fbar", 0.4)}
-"""Both grains' coarse runs and the seed's scene (R = 50 µm, d = 2 µm, demo mesh) again with a 400 µm slide on a
-500 µm block: does their degree of wear settle (:func:`slide_windows`)?"""
+               "finite_fbar_400um": ("finite_fbar", 0.4),
+               "fbar_R100_d1.75um_400um": ("fbar_R100_d1.75um", 0.4),
+               "grain_100um_400um": ("grain_100um", 0.4)}
+"""Both grains' runs (coarse and demo meshes) and the seed's scene (R = 50 µm, d = 2 µm, demo mesh) again with a
+400 µm slide on a 500 µm block: does their degree of wear settle (:func:`slide_windows`)?"""
 
-STEADY_SERIES = {"grain_100um": ("finite_fbar_400um", "grain_100um_coarse_400um"),
-                 "grain_200um": ("fbar_R100_d1.75um_coarse_400um",)}
-"""The grains' steady state: the 400 µm slides of :data:`SLIDE_STUDY` read over the second half of their slide
-(200–400 µm: :func:`slide_windows` shows the d ≈ 2 µm runs levelled from about 250 µm on, the d = 4 µm run still
-falling slowly there, so its reading is an upper estimate), at 2 N as in :data:`GRAIN_SERIES`
-(:func:`at_two_newtons`). The R = 50 µm grain is interpolated between d = 2 µm (demo mesh, 1.0 N) and d = 4 µm
-(coarse mesh, 2.6 N): the two levels differ by 0.003–0.004 in f_ab on 200 µm slides (:func:`mesh_spread`), a fifth
-of what the interpolation spans (0.030 to 0.013); the R = 100 µm grain is its run at 1.9 N (none brackets 2 N)."""
+STEADY_VARIANTS = {"finite_fbar_coarse_400um": ("finite_fbar_400um", {"mesh": "coarse"}),
+                   "fbar_R100_d1.85um_coarse_400um": ("fbar_R100_d1.75um_coarse_400um", {"depth": 0.00185})}
+"""400 µm slides that vary one of :data:`SLIDE_STUDY`'s: the seed's scene on the coarse mesh (so that both of the
+R = 50 µm grain's depths are read on one level), and the R = 100 µm grain 0.1 µm deeper, F_N ∝ d giving 2.05 N
+(so that a pair of runs brackets 2 N)."""
+
+STEADY_SERIES = {"grain_100um": ("finite_fbar_coarse_400um", "grain_100um_coarse_400um"),
+                 "grain_200um": ("fbar_R100_d1.75um_coarse_400um", "fbar_R100_d1.85um_coarse_400um")}
+"""The grains' steady state: the coarse mesh's 400 µm slides of :data:`SLIDE_STUDY` and :data:`STEADY_VARIANTS`
+read over the second half of their slide (200–400 µm: :func:`slide_windows` shows the d ≈ 2 µm runs levelled from
+about 250 µm on, the d = 4 µm run still falling slowly there, so its reading is an upper estimate), interpolated
+to 2 N as in :data:`GRAIN_SERIES` (:func:`at_two_newtons`): the R = 50 µm grain between d = 2 µm (1.1 N) and
+d = 4 µm (2.6 N), the R = 100 µm grain between d = 1.75 and 1.85 µm. :data:`STEADY_LEVEL_PAIRS` gives the mesh
+part of their uncertainty."""
+
+STEADY_LEVEL_PAIRS = {"R50_d2um": ("finite_fbar_400um", "finite_fbar_coarse_400um"),
+                      "R50_d4um": ("grain_100um_400um", "grain_100um_coarse_400um"),
+                      "R100_d1.75um": ("fbar_R100_d1.75um_400um", "fbar_R100_d1.75um_coarse_400um")}
+"""One scene's 400 µm slide on the demo and the coarse mesh: the spread of its steady readings over the two levels
+(:func:`steady_spread`)."""
 
 SLIDE_WINDOW = 0.05
 """Width of the slide windows of :func:`slide_windows`, mm."""
@@ -325,8 +340,9 @@ def main(outdir: Path = RESULTS, quick: bool = False, only: str | None = None, p
             raise ValueError(f"--only: unknown run {only!r}; planned runs: {', '.join(plan)}")
         run_or_load(outdir, only, plan[only])
         return {}
-    if stored_only:
-        plan = {n: sc for n, sc in plan.items() if (outdir / "scratch_steady" / n / "forces.csv").exists()}
+    if stored_only:                 # a run still being computed (no u.npy yet) is left to its own process
+        stored = "forces.csv" if partial else "u.npy"
+        plan = {n: sc for n, sc in plan.items() if (outdir / "scratch_steady" / n / stored).exists()}
     runs = {name: analyse(name, scene, run_or_load(outdir, name, scene, partial)) for name, scene in plan.items()}
     results = {"mode": "quick" if quick else "full", "date": time.strftime("%Y-%m-%d %H:%M"), "runs": runs}
     if not quick:
@@ -356,6 +372,7 @@ def main(outdir: Path = RESULTS, quick: bool = False, only: str | None = None, p
         results["removal_model"] = removal_model(outdir, runs)
         results["mesh_spread"] = mesh_spread(outdir, plan, runs)
         results["slide_windows"] = slide_windows(outdir, plan, runs)
+        results["steady_spread"] = steady_spread(results["slide_windows"])
     results["wall_time_s"] = time.perf_counter() - t0
     with CurveWriter(outdir / "scratch_steady.csv", COLUMNS) as w:
         for entry in runs.values():
@@ -419,23 +436,39 @@ def mesh_spread(outdir: Path, plan: dict[str, ScratchScene], runs: dict) -> dict
 
 
 def slide_windows(outdir: Path, plan: dict[str, ScratchScene], runs: dict) -> dict:
-    """For the runs of :data:`SLIDE_STUDY` and the runs they extend: f_ab from the budget's rates over consecutive
-    windows of :data:`SLIDE_WINDOW` along the slide (the first from one window after the start: the indentation's
-    transient), and the mean and range of nine wake sections beyond mid-slide: the slide a degree of wear needs to
-    settle."""
+    """For the runs of :data:`SLIDE_STUDY`, the runs they extend and :data:`STEADY_VARIANTS`: f_ab from the
+    budget's rates over consecutive windows of :data:`SLIDE_WINDOW` along the slide (the first from one window
+    after the start: the indentation's transient), and the mean and range of nine wake sections beyond mid-slide:
+    the slide a degree of wear needs to settle."""
     out = {}
-    for name, (base, _) in SLIDE_STUDY.items():
-        for run in (base, name):
-            if run not in runs or not runs[run]["row"]["finished"]:
-                continue
-            folder = outdir / "scratch_steady" / run
-            curves, scene = read_curve(folder / "forces.csv"), plan[run]
-            starts = np.arange(SLIDE_WINDOW, scene.slide - 0.5 * SLIDE_WINDOW, SLIDE_WINDOW)
-            out[run] = {"slide_um": scene.slide * 1e3,
-                        "windows_um": [[a * 1e3, (a + SLIDE_WINDOW) * 1e3] for a in starts],
-                        "f_ab_rates": [steady_rates(curves, a, a + SLIDE_WINDOW).degree_of_wear for a in starts],
-                        "f_ab_rates_second_half": runs[run]["row"]["f_ab_rates"],
-                        **wake_readings(scene, folder)}
+    extended = [run for name, (base, _) in SLIDE_STUDY.items() for run in (base, name)]
+    for run in dict.fromkeys(extended + list(STEADY_VARIANTS)):
+        if run not in runs or not runs[run]["row"]["finished"]:
+            continue
+        folder = outdir / "scratch_steady" / run
+        curves, scene = read_curve(folder / "forces.csv"), plan[run]
+        starts = np.arange(SLIDE_WINDOW, scene.slide - 0.5 * SLIDE_WINDOW, SLIDE_WINDOW)
+        out[run] = {"slide_um": scene.slide * 1e3,
+                    "windows_um": [[a * 1e3, (a + SLIDE_WINDOW) * 1e3] for a in starts],
+                    "f_ab_rates": [steady_rates(curves, a, a + SLIDE_WINDOW).degree_of_wear for a in starts],
+                    "f_ab_rates_second_half": runs[run]["row"]["f_ab_rates"],
+                    **wake_readings(scene, folder)}
+    return out
+
+
+def steady_spread(windows: dict) -> dict:
+    """Per scene of :data:`STEADY_LEVEL_PAIRS` slid 400 µm on both levels: its steady readings (f_ab from the rates
+    of the second half, the wake sections' mean) on the demo and the coarse mesh and their difference."""
+    out = {}
+    for scene, runs in STEADY_LEVEL_PAIRS.items():
+        if not all(run in windows for run in runs):
+            continue
+        levels = {level: {"run": run, "f_ab_rates": windows[run]["f_ab_rates_second_half"],
+                          "f_ab_sections": windows[run]["f_ab_sections"]}
+                  for level, run in zip(("demo", "coarse"), runs, strict=True)}
+        out[scene] = {"levels": levels,
+                      "spread": {key: abs(levels["coarse"][key] - levels["demo"][key])
+                                 for key in ("f_ab_rates", "f_ab_sections")}}
     return out
 
 
