@@ -102,8 +102,9 @@ DECISIONS: tuple[Decision, ...] = (
              "reconstruction"),
     Decision("the degree of wear of one grain", "read from one section of a 100 µm scratch (0.37 and 0.12)",
              "the steady rate of the volume budget, (rate of A_g − rate of A_s)/rate of A_g, over the second half "
-             "of a 400 µm slide on a 500 µm block, at 2 N as in Table 8.4; its uncertainty from 50 µm windows, "
-             "nine wake sections and the mesh levels of the 200 µm slides",
+             "of a 400 µm slide on a 500 µm block, on the coarse mesh, interpolated to 2 N between two depths "
+             "as in Table 8.4; its uncertainty from 50 µm windows, nine wake sections and the same 400 µm slides "
+             "on the demo mesh (at most 0.002 apart)",
              "the sections and rates fall along the wake: over 50 µm windows 0.29, 0.12, 0.05–0.06 on every grain, "
              "then level off at 0.03 after about 250 µm of slide (13 footprint radii) at d ≈ 2 µm, and keep "
              "falling slowly at d = 4 µm (0.024, 0.014, 0.010, 0.008: an upper estimate); the second half of a "
@@ -111,6 +112,8 @@ DECISIONS: tuple[Decision, ...] = (
              "in the transient", ("benchmarks/bench_scratch_steady.py",
                                   "tests/test_benchmarks.py::test_the_grains_steady_degree_of_wear_is_read_beyond_"
                                   "the_slide_transient",
+                                  "tests/test_benchmarks.py::test_the_steady_degree_of_wear_changes_little_between_"
+                                  "the_mesh_levels",
                                   "tests/test_scratch_budget.py::test_steady_rates_are_the_slopes_over_the_window_"
                                   "and_give_eq_8_5_in_rates"),
              "scratch_to_wear", "choice"),
