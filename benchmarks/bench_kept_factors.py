@@ -29,10 +29,9 @@ from pathlib import Path
 
 import numpy as np
 from _common import RESULTS, command_line, save_figure
+from bench_scratch_speed import row_of as speed_row
 
-from abrakit.io import CurveWriter, read_curve, read_json, write_json
-from abrakit.scratch.budget import steady_rates
-from abrakit.scratch.record import slide_mean
+from abrakit.io import CurveWriter, read_json, write_json
 from abrakit.scratch.scene import DEMO_SCENE, ScratchScene, run_scratch
 
 NAME = "kept_factors"
@@ -67,20 +66,18 @@ def launch(name: str, outdir: Path, quick: bool) -> subprocess.Popen | None:
     return subprocess.Popen(command, env=env)
 
 
-def row_of(name: str, folder: Path) -> dict:
+def row_of(name: str, folder: Path, quick: bool) -> dict:
+    """A run's counters from its summary, and F_N, A_g, f_ab read as the speed table reads them
+    (:func:`bench_scratch_speed.row_of`)."""
     summary = read_json(folder / "summary.json")
-    curves = read_curve(folder / "forces.csv")
-    sliding = curves["phase"] == 1
-    half = sliding & (curves["slide"] >= 0.5 * summary["slide_um"] * 1e-3)
     counts = summary.get("solver_counts", {})
+    read = speed_row(name, scene_for(quick), summary | {"status": "finished"}, folder)
     return {"name": name, "threads": CASES[name][0], "inexact": CASES[name][1],
             **{k: summary[k] for k in ("wall_time_s", "newton_iterations", "cutbacks")},
             "factorisations": counts.get("factorisations", np.nan), "factorise_s": counts.get("factorise_s", np.nan),
             "solves": counts.get("solves", np.nan), "gmres_iterations": counts.get("gmres_iterations", 0),
             "krylov_solves": counts.get("krylov_solves", 0), "krylov_fallbacks": counts.get("krylov_fallbacks", 0),
-            "F_N": slide_mean(curves["slide"][half], curves["normal_force"][half]),
-            "A_g_um2": (summary.get("groove_unloaded") or {}).get("A_g_um2", np.nan),
-            "f_ab_rates": steady_rates(curves).degree_of_wear}
+            **{k: read[k] for k in ("F_N", "A_g_um2", "f_ab_rates")}}
 
 
 def main(outdir: Path = RESULTS, quick: bool = False) -> dict:
@@ -91,7 +88,7 @@ def main(outdir: Path = RESULTS, quick: bool = False) -> dict:
         for process in processes:
             if process.wait() != 0:
                 raise RuntimeError(f"a run of {batch} failed (exit code {process.returncode})")
-    rows = {name: row_of(name, runs_folder(outdir, quick) / name) for name in CASES}
+    rows = {name: row_of(name, runs_folder(outdir, quick) / name, quick) for name in CASES}
     comparison = {}
     for threads in (1, 2):
         exact, inexact = (rows[f"{threads}thread{'s' if threads == 2 else ''}_{kind}"] for kind in ("exact", "inexact"))
