@@ -94,10 +94,9 @@ factorisation, to 3 % of the residual (Eisenstat and Walker's forcing term η = 
 with stale factors needs 25–30 GMRES iterations (above), a 3 % one three to eight: most corrections of an
 increment's later iterations, where the plastic set moves by tens to hundreds of points, come from the kept
 factors, and Newton, whose residual falls only about tenfold per iteration anyway, needs as many iterations. The
-first iteration of an increment always factorises (nodes newly in contact). Measured on the coarse mesh's 100 µm
-slide, one thread each, the machine shared with two other runs: 508 against 510 Newton iterations, 191 against 489
-factorisations, 41 against 57 s in the linear solver, 98 against 115 s in all; F_N, F_T within 0.1 %, A_g within
-10⁻⁴, f_ab within 0.001. With η = 0.1 and five iterations the corrections are too coarse (607 iterations, 109 s);
+first iteration of an increment always factorises (nodes newly in contact). What it saves, measured on a quiet
+machine, is in :data:`SCENE_FORCING`'s docstring. With η = 0.1 and five iterations the corrections are too coarse
+(607 against 510 Newton iterations on the coarse mesh's 100 µm slide, one thread, the machine shared);
 with η = 0.01 and eight, too many GMRES runs fail (a 30 µm slide: 248 against 213 iterations, no time saved).
 ``benchmarks/bench_scratch_speed.py`` compares every level with and without (``against_exact_corrections``).
 Units: N, mm, MPa (µm values written as mm).
