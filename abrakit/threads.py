@@ -19,7 +19,15 @@ four-point-bending example (13.0 → 16.5 s), whose time steps wake the threads 
 Environment variables act on libraries that load later (MKL, numba, the OpenMP runtimes
 are loaded lazily by abrakit); libraries already loaded (numpy's OpenBLAS, when numpy was imported first) are
 limited at run time through threadpoolctl. :func:`limit_threads` changes the count later, in one call.
-"""
+
+OpenBLAS is the exception: it gets :data:`OPENBLAS_THREADS` (one) thread, whatever the cores, unless the user sets
+``OPENBLAS_NUM_THREADS``. Its pool is not OpenMP: its threads spin after every call on a vector long enough to be
+split (numpy's ``dot``, ``vdot``, matrix-vector products) and hold the cores that numba's and PARDISO's OpenMP
+threads then wait for. On the 2-core machine the first 45 increments of the scratch's coarse mesh on the 300 µm
+block (cProfile) took 89.5 s with two threads in every pool, 58.8 s with one, and 42.3 s with two threads
+everywhere but OpenBLAS: the material update 36 → 16 ms per call, a PARDISO call 21 → 9.5 ms. The pieces timed
+alone (``benchmarks/bench_threads.py``) do not show it, a whole run does (its ``runs`` table). abrakit's
+vectors and dense matrices are too small for OpenBLAS's threads to pay back."""
 
 from __future__ import annotations
 
@@ -28,6 +36,9 @@ import os
 __all__ = ["configure_threads", "default_threads", "limit_threads"]
 
 _COUNT_VARIABLES = ("OMP_NUM_THREADS", "MKL_NUM_THREADS", "OPENBLAS_NUM_THREADS", "NUMBA_NUM_THREADS")
+
+OPENBLAS_THREADS = 1
+"""OpenBLAS's thread count unless the user sets ``OPENBLAS_NUM_THREADS`` (the module docstring says why)."""
 
 
 def _cores() -> int:
@@ -65,20 +76,31 @@ def configure_threads() -> int:
     inherited = set(os.environ.get(_SET_BY_ABRAKIT, "").split(","))
     ours = [name for name in _COUNT_VARIABLES if name not in os.environ or name in inherited]
     for name in ours:
-        os.environ[name] = str(threads)
+        os.environ[name] = str(OPENBLAS_THREADS if name == "OPENBLAS_NUM_THREADS" else threads)
     os.environ[_SET_BY_ABRAKIT] = ",".join(ours)
-    _limit_loaded(int(os.environ["OPENBLAS_NUM_THREADS"]) if os.environ["OPENBLAS_NUM_THREADS"].isdigit()
-                  else threads)
+    _limit_loaded(threads)
     return threads
 
 
+def _openblas_threads(threads: int) -> int:
+    """OpenBLAS's count: the user's ``OPENBLAS_NUM_THREADS`` if set (and a number), else :data:`OPENBLAS_THREADS`."""
+    inherited = os.environ.get(_SET_BY_ABRAKIT, "").split(",")
+    chosen = os.environ.get("OPENBLAS_NUM_THREADS", "")
+    if "OPENBLAS_NUM_THREADS" in inherited or not chosen.strip().isdigit() or int(chosen) < 1:
+        return min(OPENBLAS_THREADS, threads)
+    return int(chosen)
+
+
 def _limit_loaded(threads: int) -> None:
-    """Limit the BLAS/OpenMP pools already loaded in this process (threadpoolctl; nothing if it is missing)."""
+    """Limit the BLAS/OpenMP pools already loaded in this process to ``threads`` (OpenBLAS's to
+    :func:`_openblas_threads`; threadpoolctl, nothing if it is missing)."""
     try:
-        from threadpoolctl import threadpool_limits
+        from threadpoolctl import threadpool_info, threadpool_limits
     except ImportError:                                           # pragma: no cover - a dependency
         return
-    threadpool_limits(limits=threads)
+    blas = _openblas_threads(threads)
+    threadpool_limits(limits={pool["prefix"]: blas if pool["internal_api"] == "openblas" else threads
+                              for pool in threadpool_info()})
 
 
 def limit_threads(threads: int) -> None:

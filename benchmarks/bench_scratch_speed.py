@@ -3,7 +3,8 @@
 The seed's scene (sphere R = 50 µm, d = 2 µm, μ = 0.1, St-52, 100 µm slide on the 200 µm block) on the mesh
 levels of :data:`abrakit.scratch.scene.MESH_LEVELS` ("demo", "coarse", "default"; "fine" without ``--quick``), the
 live scene of ``abrakit demo`` (``demo_scene``), and every level again with the 200 µm slide on a 300 µm block
-(``<level>_long``: the slide that reaches the plowing limit, and issue 39's robustness check). Per run: wall time,
+(``<level>_long``: the slide that reaches the plowing limit, and issue 39's robustness check; the "finer" level,
+:data:`LONG_ONLY`, only there). Per run: wall time,
 DOF, increments, Newton iterations, cutbacks, the mean normal force F_N over the second half of the slide, the
 groove area A_g after unloading, the degree of wear f_ab three ways (the steady rates of the volume budget over the
 second half of the slide and over its last quarter, :func:`abrakit.scratch.budget.steady_rates`; the mean and range
@@ -57,15 +58,19 @@ COMPARED = ("F_N", "A_g_um2", "f_ab_rates", "f_ab_sections", "wall_time_s", "new
 
 
 LEVELS = ("demo", "coarse", "default", "fine")
+LONG_ONLY = ("finer",)
+"""Levels run only through the 200 µm slide (not with ``--quick``): the rest of
+:data:`~abrakit.scratch.scene.MESH_LEVELS`, so that every level is shown to finish the long slide (issue 39's
+robustness; "finer" has 149 520 DOF on the 300 µm block)."""
 
 
 def planned(quick: bool) -> dict[str, ScratchScene]:
     """The runs: every level with the seed's 100 µm slide, the live scene, then every level with the 200 µm slide
-    on a 300 µm block (the long slide that reaches the plowing limit)."""
+    on a 300 µm block (the long slide that reaches the plowing limit; :data:`LONG_ONLY` only there)."""
     levels = list(LEVELS[:3] if quick else LEVELS)
     plan = {level: ScratchScene(mesh=level) for level in levels}
     plan["demo_scene"] = DEMO_SCENE
-    for level in levels:                          # every level through the 200 µm slide (issue 39's robustness)
+    for level in levels + ([] if quick else list(LONG_ONLY)):      # every level through the 200 µm slide
         plan[f"{level}_long"] = ScratchScene(mesh=level, slide=0.2, size=(0.1, 0.015, 0.3))
     return plan
 
@@ -132,13 +137,13 @@ def with_errors(rows: dict[str, dict]) -> str | None:
     """Relative errors of F_N, A_g and f_ab (rates) of every level against the finest finished level of the same
     slide (100 µm, or 200 µm for the ``_long`` runs); returns the reference of the 100 µm runs."""
     def finest(suffix: str) -> dict | None:
-        names = [level + suffix for level in LEVELS[::-1]]
+        names = [level + suffix for level in (*LEVELS, *LONG_ONLY)[::-1]]
         return next((rows[n] for n in names if n in rows and rows[n]["status"] == "finished"), None)
 
     references = {"": finest(""), "_long": finest("_long")}
     for name, row in rows.items():
         suffix = "_long" if name.endswith("_long") else ""
-        ref = references[suffix] if name.removesuffix(suffix) in LEVELS else None
+        ref = references[suffix] if name.removesuffix(suffix) in (*LEVELS, *LONG_ONLY) else None
         for key in ("F_N", "A_g_um2", "f_ab_rates"):
             row[f"{key.removesuffix('_um2')}_error"] = abs(row[key] / ref[key] - 1.0) if ref else np.nan
     return references[""]["name"] if references[""] else None

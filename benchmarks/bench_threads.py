@@ -16,6 +16,12 @@ Settings, each in a fresh process (thread pools read their environment when they
 * ``2 workers, policy`` / ``2 workers, library defaults``: two such processes at once, as pytest-xdist's two
   workers (``PYTEST_XDIST_WORKER_COUNT=2`` lets the policy give each one thread).
 
+The pieces timed alone miss what a whole run shows: OpenBLAS's threads, woken by every ``dot`` of a vector long
+enough to be split, spin and hold the cores the OpenMP pools (numba, PARDISO) wait for. So a second table
+(``runs``) times whole scratch runs (:data:`RUN_SCENE`: the default mesh, a 20 µm slide, 15 390 DOF) under the
+policy, under the policy with OpenBLAS as many threads as the other pools (``OPENBLAS_NUM_THREADS`` = cores, the
+policy before OpenBLAS got one thread), and with one thread in every pool.
+
 Writes ``threads.csv``, ``threads.json`` and ``threads.png``.
 
     python benchmarks/bench_threads.py [--quick] [--outdir DIR]
@@ -80,11 +86,12 @@ out = {"dofs": int(kin.ndof),
        "material_tangent": fastest(lambda: material.update(state, solver.assembler.strain(u)).tangent),
        "element_tangents": fastest(lambda: kin.element_tangents(response.tangent, response.stress, u)),
        "tangent": fastest(lambda: solver.tangent(response, [], u, full=False)),
-       "factorise_solve": fastest(lambda: solver.linear_solver.solve(K_II, rhs, new_step=False))}
+       # a load step's first correction factorises (within a step the inexact corrections reuse the factors)
+       "factorise_solve": fastest(lambda: solver.linear_solver.solve(K_II, rhs))}
 
 
 def after_factorising():
-    solver.linear_solver.solve(K_II, rhs, new_step=False)
+    solver.linear_solver.solve(K_II, rhs)
     t0 = time.perf_counter()
     kin.element_tangents(response.tangent, response.stress, u)
     return time.perf_counter() - t0
@@ -94,9 +101,23 @@ out["element_tangents_after_factorising"] = min(after_factorising() for _ in ran
 print(json.dumps(out))
 """
 
+RUN = r"""
+import json, sys, time
+from abrakit.scratch.scene import ScratchScene, run_scratch
+
+t0 = time.perf_counter()
+result = run_scratch(ScratchScene(mesh=sys.argv[1], slide=float(sys.argv[2])), vtu_every=0)
+print(json.dumps({"wall_time_s": time.perf_counter() - t0, "newton_iterations": result.newton_iterations,
+                  "dofs": result.summary()["dofs"]}))
+"""
+
+RUN_SCENE = {"mesh": "default", "slide": 0.02}
+"""The whole run of the ``runs`` table (``--quick``: the same slide on the coarse mesh, below the vector length
+where OpenBLAS splits its work, so the settings differ less)."""
+
 LIBRARY_DEFAULTS = {"OMP_WAIT_POLICY": "ACTIVE", "KMP_BLOCKTIME": "200"}
 _OURS = ("OMP_WAIT_POLICY", "KMP_BLOCKTIME", "OMP_NUM_THREADS", "MKL_NUM_THREADS", "OPENBLAS_NUM_THREADS",
-         "NUMBA_NUM_THREADS", "ABRAKIT_THREADS", "PYTEST_XDIST_WORKER_COUNT")
+         "NUMBA_NUM_THREADS", "ABRAKIT_THREADS", "PYTEST_XDIST_WORKER_COUNT", "ABRAKIT_SET_THREADS")
 
 
 def settings() -> dict[str, tuple[int, dict]]:
@@ -110,6 +131,21 @@ def settings() -> dict[str, tuple[int, dict]]:
         "2 workers, policy": (2, {"PYTEST_XDIST_WORKER_COUNT": "2"}),
         "2 workers, library defaults": (2, defaults),
     }
+
+
+def run_settings() -> dict[str, dict]:
+    """Name -> environment of the whole runs (one process each)."""
+    cores = str(len(os.sched_getaffinity(0)))
+    return {"policy": {}, "OpenBLAS as the other pools": {"OPENBLAS_NUM_THREADS": cores},
+            "one thread": {"ABRAKIT_THREADS": "1"}}
+
+
+def measure_run(mesh: str, slide: float, env: dict) -> dict:
+    """Wall time, Newton iterations and DOF of one whole scratch run in a fresh process."""
+    clean = {k: v for k, v in os.environ.items() if k not in _OURS} | env
+    out = subprocess.run([sys.executable, "-c", RUN, mesh, str(slide)], env=clean, capture_output=True, text=True,
+                         check=True)
+    return json.loads(out.stdout.strip().splitlines()[-1])
 
 
 def measure(mesh: str, processes: int, env: dict) -> dict:
@@ -133,18 +169,22 @@ def main(outdir: Path = RESULTS, quick: bool = False) -> dict:
             w.write(**row)
             rows.append(row)
     per_iteration = {r["setting"]: r["evaluate_ms"] + r["tangent_ms"] + r["factorise_solve_ms"] for r in rows}
+    run_mesh = "coarse" if quick else RUN_SCENE["mesh"]
+    runs = [{"setting": name, "mesh": run_mesh, "slide_um": 1e3 * RUN_SCENE["slide"],
+             **measure_run(run_mesh, RUN_SCENE["slide"], env)} for name, env in run_settings().items()]
     results = {"date": time.strftime("%Y-%m-%d %H:%M"), "host": platform.node(), "mesh": mesh, "rows": rows,
-               "iteration_ms": per_iteration,
-               "summary": "; ".join(f"{k}: {v:.0f} ms per Newton iteration" for k, v in per_iteration.items())}
+               "iteration_ms": per_iteration, "runs": runs,
+               "summary": "; ".join(f"{k}: {v:.0f} ms per Newton iteration" for k, v in per_iteration.items())
+               + "; whole runs: " + ", ".join(f"{r['setting']} {r['wall_time_s']:.0f} s" for r in runs)}
     write_json(outdir / "threads.json", results)
-    plot(rows, outdir / "threads.png")
+    plot(rows, runs, outdir / "threads.png")
     return results
 
 
-def plot(rows, path: Path) -> None:
+def plot(rows, runs, path: Path) -> None:
     import matplotlib.pyplot as plt
 
-    fig, ax = plt.subplots(figsize=(8.0, 4.2))
+    fig, (ax, ax_runs) = plt.subplots(1, 2, figsize=(11.0, 4.2), width_ratios=(2.2, 1.0))
     width = 0.8 / len(rows)
     x = np.arange(len(PIECES))
     for k, row in enumerate(rows):
@@ -153,6 +193,9 @@ def plot(rows, path: Path) -> None:
     ax.set_ylabel("ms (fastest of five; mean over concurrent processes)")
     ax.set_title("One scratch Newton iteration's pieces under the thread settings")
     ax.legend(fontsize=8)
+    ax_runs.barh([r["setting"] for r in runs], [r["wall_time_s"] for r in runs], color="0.5")
+    ax_runs.set(xlabel="wall time [s]", title=f"Whole runs ({runs[0]['mesh']} mesh, {runs[0]['slide_um']:g} µm slide)")
+    ax_runs.tick_params(axis="y", labelsize=8)
     save_figure(fig, path)
 
 

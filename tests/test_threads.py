@@ -14,8 +14,10 @@ import json, os, numpy
 import abrakit
 from threadpoolctl import threadpool_info
 print(json.dumps({"env": {k: os.environ.get(k) for k in ("OMP_WAIT_POLICY", "KMP_BLOCKTIME", "OMP_NUM_THREADS",
-                                                           "MKL_NUM_THREADS", "NUMBA_NUM_THREADS")},
-                  "pools": [p["num_threads"] for p in threadpool_info()]}))
+                                                           "MKL_NUM_THREADS", "NUMBA_NUM_THREADS",
+                                                           "OPENBLAS_NUM_THREADS")},
+                  "pools": [p["num_threads"] for p in threadpool_info()],
+                  "openblas": [p["num_threads"] for p in threadpool_info() if p["internal_api"] == "openblas"]}))
 """
 
 
@@ -51,6 +53,19 @@ def test_the_users_settings_are_kept():
     seen = probe(OMP_WAIT_POLICY="ACTIVE", ABRAKIT_THREADS="1", MKL_NUM_THREADS="2")
     assert seen["env"]["OMP_WAIT_POLICY"] == "ACTIVE"
     assert seen["env"]["MKL_NUM_THREADS"] == "2" and seen["env"]["OMP_NUM_THREADS"] == "1"
+
+
+def test_openblas_gets_one_thread_unless_the_user_sets_it():
+    """OpenBLAS's spinning threads hold the cores the OpenMP pools need (abrakit.threads): one thread, also for
+    numpy's OpenBLAS loaded before abrakit, while the OpenMP pools get the cores; the user's count is kept."""
+    cores = len(os.sched_getaffinity(0))
+    seen = probe(ABRAKIT_THREADS=str(max(cores, 2)))
+    assert seen["env"]["OPENBLAS_NUM_THREADS"] == "1" and seen["openblas"] and set(seen["openblas"]) == {1}
+    assert seen["env"]["OMP_NUM_THREADS"] == str(max(cores, 2))
+    mine = probe(ABRAKIT_THREADS="1", OPENBLAS_NUM_THREADS="2")
+    assert mine["env"]["OPENBLAS_NUM_THREADS"] == "2" and set(mine["openblas"]) == {2}
+    child = probe(OPENBLAS_NUM_THREADS="1", ABRAKIT_SET_THREADS="OPENBLAS_NUM_THREADS", ABRAKIT_THREADS="2")
+    assert child["env"]["OPENBLAS_NUM_THREADS"] == "1" and set(child["openblas"]) == {1}
 
 
 def test_default_threads_divides_the_cores_by_the_workers(monkeypatch):

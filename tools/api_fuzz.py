@@ -21,7 +21,7 @@ Two stages:
    Some arguments accept NaN by design (curves written as they come, statistics that count what they drop):
    :data:`NAN_ALLOWED` lists them with the reason.
 
-``python tools/api_fuzz.py harvest`` then ``python tools/api_fuzz.py fuzz`` writes the counts to
+``python tools/api_fuzz.py harvest [--merge] [tests ...]`` then ``python tools/api_fuzz.py fuzz`` writes the counts to
 ``benchmarks/results/api_fuzz.json``; ``tests/test_api_fuzz.py`` runs the fuzz stage on the stored calls.
 """
 
@@ -201,20 +201,28 @@ class Harvester:
             return
 
 
-def harvest(pytest_args=("-q", "-m", "not slow", "-p", "no:cacheprovider", "--ignore=tests/test_api_fuzz.py", "tests"),
-            out: Path = CATALOGUE) -> dict:
-    """Run the tests under the hook and pickle the calls found (``{name: [kwargs, ...]}``). The fuzz test itself is
-    left out: its replays with invalid input would enter the catalogue as valid calls."""
+HARVEST_OPTIONS = ("-q", "-m", "not slow", "-p", "no:cacheprovider", "--ignore=tests/test_api_fuzz.py")
+"""pytest's options of a harvest: the fast tests, without the fuzz test itself (its replays with invalid input
+would enter the catalogue as valid calls)."""
+
+
+def harvest(tests=("tests",), out: Path = CATALOGUE, merge: bool = False) -> dict:
+    """Run the tests (paths or pytest node ids) under the hook and pickle the calls found (``{name: [kwargs,
+    ...]}``). ``merge``: keep the stored catalogue's calls of every callable these tests did not call (a whole
+    harvest takes about three hours under the profiler; one of a few test files refreshes the callables they
+    call, e.g. after a signature changed)."""
     import pytest
 
     harvester = Harvester()
     sys.setprofile(harvester.hook)
     try:
-        pytest.main(list(pytest_args))
+        pytest.main([*HARVEST_OPTIONS, *tests])
     finally:
         sys.setprofile(None)
     calls = {k: [c for c in v if len(pickle.dumps(c)) <= MAX_BYTES] for k, v in harvester.calls.items()}
     calls = {k: v for k, v in calls.items() if v}
+    if merge and out.exists():
+        calls = pickle.loads(out.read_bytes()) | calls
     out.write_bytes(pickle.dumps(calls, protocol=pickle.HIGHEST_PROTOCOL))
     return calls
 
@@ -398,9 +406,12 @@ if __name__ == "__main__":
     parser = argparse.ArgumentParser(description="Fuzz abrakit's public API with invalid input")
     parser.add_argument("stage", choices=("harvest", "fuzz"))
     parser.add_argument("--out", type=Path, default=ROOT / "benchmarks" / "results" / "api_fuzz.json")
+    parser.add_argument("--merge", action="store_true", help="harvest: keep the stored calls of callables the "
+                                                              "given tests do not call")
+    parser.add_argument("tests", nargs="*", default=["tests"], help="harvest: test files or node ids (all tests)")
     args = parser.parse_args()
     if args.stage == "harvest":
-        found = harvest()
+        found = harvest(args.tests, merge=args.merge)
         print(f"harvested {sum(map(len, found.values()))} calls of {len(found)} callables into {CATALOGUE}")
     else:
         result = fuzz(load_catalogue())

@@ -99,6 +99,12 @@ machine, is in :data:`SCENE_FORCING`'s docstring. With η = 0.1 and five iterati
 (607 against 510 Newton iterations on the coarse mesh's 100 µm slide, one thread, the machine shared);
 with η = 0.01 and eight, too many GMRES runs fail (a 30 µm slide: 248 against 213 iterations, no time saved).
 ``benchmarks/bench_scratch_speed.py`` compares every level with and without (``against_exact_corrections``).
+
+Fourth round (issue 39): threads. On meshes above about 10 000 unknowns OpenBLAS splits numpy's vector products
+(the GMRES and the residual norms) over its own threads, which spin after each call and hold the cores that the
+OpenMP pools of the compiled kernels and PARDISO wait for: on the coarse mesh's 200 µm slide a PARDISO call took
+21 ms in the run against 5–7 ms alone, and two threads were slower than one. :mod:`abrakit.threads` now gives
+OpenBLAS one thread: the default scene 276 → 181 s, the coarse 200 µm slide 255 → 151 s.
 Units: N, mm, MPa (µm values written as mm).
 """
 
@@ -526,9 +532,11 @@ residual in at most eight iterations, before a new factorisation. They pay where
 GMRES iteration. ``benchmarks/bench_kept_factors.py`` measures it on the coarse mesh's 100 µm slide, one thread
 per process (two side by side) and two threads alone, in one sitting: 91 → 75 s and 54 → 44 s, as many Newton
 iterations (508/510, 515/529), 191 and 194 factorisations instead of 489 and 530; F_N, A_g within 3·10⁻⁴ and f_ab
-within 0.001 of the exact corrections. On the default scene and the coarse mesh's 200 µm slide, two threads,
-separate sittings of the same hour, the exact and inexact runs took 276.1 and 276.3 s, 258.8 and 255.0 s: the
-gain shrinks where a GMRES iteration's solve grows with the factors. The machine's hour changes such timings by
+within 0.001 of the exact corrections (in a later sitting, OpenBLAS on one thread: 86 → 69 s and 59 → 52 s). On
+the default scene and the coarse mesh's 200 µm slide, two threads, separate sittings of the same hour, the exact
+and inexact runs took 276.1 and 276.3 s, 258.8 and 255.0 s: the gain shrank where a GMRES iteration's solve grows
+with the factors, and on two threads the solves waited for OpenBLAS's spinning threads; with OpenBLAS on one
+thread (:mod:`abrakit.threads`) the inexact runs take 181 and 151 s. The machine's hour changes such timings by
 ±15 %; ``benchmarks/bench_scratch_speed.py`` compares every level with the exact corrections stored before."""
 
 
