@@ -646,3 +646,20 @@ def test_the_slide_mean_weighs_the_groove_by_distance_not_by_increments():
     assert slide_mean(np.array([1.0]), np.array([4.0])) == 4.0
     with pytest.raises(ValueError, match="slide and values"):
         slide_mean(z, f[:-1])
+
+
+def test_auto_takes_pardiso_at_every_size_and_amg_only_without_it(monkeypatch):
+    """On the finer level (131 805 free DOFs) the AMG-preconditioned GMRES did not converge where PARDISO
+    factorises in seconds: "auto" keeps the direct solver whenever PARDISO is there, and takes AMG only without
+    it above AMG_ABOVE free DOFs (SuperLU below)."""
+    import abrakit.scratch.scene as scene_module
+
+    specimen = build_specimen(ScratchScene(depth=0.0008, slide=0.008, mesh=TINY_MESH, size=TINY_BLOCK))
+    solver = Solver(specimen.basis, st52_material(), [Dirichlet.on(specimen.basis, "bottom")])
+    monkeypatch.setattr(scene_module, "AMG_ABOVE", 10)                  # the tiny block is "large"
+    monkeypatch.setattr(scene_module, "pardiso_available", lambda: True)
+    assert isinstance(scene_linear_solver(solver, "auto"), scene_module.DirectSolver)
+    monkeypatch.setattr(scene_module, "pardiso_available", lambda: False)
+    assert isinstance(scene_linear_solver(solver, "auto"), scene_module.ReusedPreconditioner)
+    monkeypatch.setattr(scene_module, "AMG_ABOVE", 10**9)
+    assert scene_linear_solver(solver, "auto").backend.name == "superlu"
