@@ -85,6 +85,7 @@ NON_FINITE_BY_DESIGN = {
     "abrakit.experiments.closed_form_checks.mean_interval": "std and half-width of a single value are undefined "
                                                             "(NaN, as numpy's sample std)",
     "abrakit.experiments.compression.crack_initiation_stress": "NaN when no bond broke in the test",
+    "abrakit.io.loads": "strict JSON's strings NaN, Infinity, -Infinity are read back as the numbers they stand for",
 }
 
 
@@ -222,9 +223,20 @@ def harvest(tests=("tests",), out: Path = CATALOGUE, merge: bool = False) -> dic
     calls = {k: [c for c in v if len(pickle.dumps(c)) <= MAX_BYTES] for k, v in harvester.calls.items()}
     calls = {k: v for k, v in calls.items() if v}
     if merge and out.exists():
-        calls = pickle.loads(out.read_bytes()) | calls
+        calls = merged(pickle.loads(out.read_bytes()), calls)
     out.write_bytes(pickle.dumps(calls, protocol=pickle.HIGHEST_PROTOCOL))
     return calls
+
+
+def merged(stored: dict, harvested: dict) -> dict:
+    """The stored catalogue with the harvested calls added: per callable, its stored calls and the harvested ones
+    it did not have (a test that calls a function with invalid input, to check its refusal, must not replace the
+    valid calls of another test)."""
+    out = {name: list(calls) for name, calls in stored.items()}
+    for name, calls in harvested.items():
+        known = {pickle.dumps(c) for c in out.get(name, [])}
+        out.setdefault(name, []).extend(c for c in calls if pickle.dumps(c) not in known)
+    return out
 
 
 def load_catalogue(path: Path = CATALOGUE) -> dict:
@@ -409,7 +421,7 @@ if __name__ == "__main__":
     parser.add_argument("--merge", action="store_true", help="harvest: keep the stored calls of callables the "
                                                               "given tests do not call")
     parser.add_argument("tests", nargs="*", default=["tests"], help="harvest: test files or node ids (all tests)")
-    args = parser.parse_args()
+    args = parser.parse_intermixed_args()
     if args.stage == "harvest":
         found = harvest(args.tests, merge=args.merge)
         print(f"harvested {sum(map(len, found.values()))} calls of {len(found)} callables into {CATALOGUE}")

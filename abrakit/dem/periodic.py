@@ -39,8 +39,9 @@ from dataclasses import dataclass, field
 from typing import NamedTuple
 
 import numpy as np
+from numpy.typing import ArrayLike
 
-from abrakit.validation import check_positive
+from abrakit.validation import check_positive, number_arguments
 
 __all__ = ["ElasticConstants", "Periodic", "VOIGT", "elastic_constants", "elastic_probe", "strain_tensor"]
 
@@ -48,7 +49,8 @@ VOIGT = ((0, 0), (1, 1), (2, 2), (1, 2), (0, 2), (0, 1))
 """Index pairs of Voigt notation: σ = (σ_xx, σ_yy, σ_zz, σ_yz, σ_xz, σ_xy), ε with engineering shears γ = 2ε_ab."""
 
 
-def strain_tensor(strain) -> np.ndarray:
+@number_arguments
+def strain_tensor(strain: ArrayLike) -> np.ndarray:
     """A symmetric (3, 3) strain from ``(ε_xx, ε_yy, ε_zz)``, a scalar (isotropic) or a (3, 3) tensor."""
     eps = np.asarray(strain, dtype=float)
     if eps.shape == (3, 3):

@@ -119,7 +119,8 @@ def cycle_jump(damage: ArrayLike, increment: ArrayLike, jump: float, *, max_cycl
 
 @number_arguments
 def cycle_update(damage: ArrayLike, peak, low, p: BondParameters, *, width=None, eligible=True,
-                 jump: float | None = None, max_cycles: float | None = None, ratchet=None, limit=None):
+                 jump: float | None = None, max_cycles: float | None = None, ratchet=None,
+                 limit: ArrayLike | None = None):
     """The fatigue update of one load cycle at the onset of its unloading (Sec. 3.2, Fig. 5), for bonds whose cycle
     ran between the stresses ``low`` = (σ_n, σ_s) and ``peak`` = (σ_n, σ_s).
 

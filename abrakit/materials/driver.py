@@ -21,7 +21,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from .. import tensors as T
-from ..validation import check_positive, number_arguments
+from ..validation import check_finite, check_positive, number_arguments
 from .base import finite_difference_tangent
 
 __all__ = ["DriverError", "PathResult", "cycles", "drive", "plane_strain_tension", "pure_shear", "ramp",
@@ -50,6 +50,10 @@ class PathResult:
     stress: np.ndarray
     internal: dict[str, np.ndarray]
     iterations: np.ndarray
+
+    def __post_init__(self):
+        for name in ("time", "strain", "stress"):              # a path that went astray stops, never NaN curves
+            check_finite(name, getattr(self, name))
 
     def strain_component(self, name: str) -> np.ndarray:
         """Tensor component ``eps_ij`` (``name="11"``, ``"12"``, ...) along the path (shears un-scaled)."""
@@ -87,9 +91,10 @@ def cycles(amplitude: float, n_cycles: int, steps_per_quarter: int, mean: float 
     return mean + amplitude * (2.0 / np.pi) * np.arcsin(np.sin(2.0 * np.pi * phase))
 
 
+@number_arguments
 def drive(
     material,
-    strain,
+    strain: ArrayLike,
     stress=None,
     stress_controlled=None,
     *,
@@ -109,6 +114,9 @@ def drive(
     Convergence: ``max |sigma_free - target| <= tol (1 + max |sigma|)`` (MPa). ``jacobian``: ``"material"``
     (the returned tangent, retried with finite differences if Newton fails) or ``"finite_difference"``.
     """
+    check_positive("tol", tol)
+    if max_iter < 0:                         # 0: the step's strain-controlled response only, no correction
+        raise ValueError(f"max_iter must be a non-negative integer, got {max_iter!r}")
     strain = np.asarray(strain, dtype=float)
     if strain.ndim < 2 or strain.shape[-1] != 6:
         raise ValueError(f"strain must have shape (n_steps, ..., 6), got {strain.shape}")

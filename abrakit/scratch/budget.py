@@ -42,6 +42,8 @@ from typing import NamedTuple
 
 import numpy as np
 
+from abrakit.validation import number_arguments
+
 __all__ = ["BoundaryFaces", "PlasticStrainRemoval", "SteadyRates", "VolumeBudget", "plateau_onset",
            "removal_by_plastic_strain", "steady_rates", "volume_budget"]
 
@@ -181,6 +183,7 @@ class SteadyRates(NamedTuple):
         return 1.0 - self.shoulders / self.groove
 
 
+@number_arguments
 def steady_rates(curves: dict, from_slide: float | None = None, to_slide: float | None = None) -> SteadyRates:
     """Least-squares slopes d V / d slide of the budget columns of a scratch's ``curves`` (``forces.csv``) over
     the sliding increments with ``from_slide`` ≤ slide ≤ ``to_slide`` (default: the second half of the slide, to

@@ -12,10 +12,12 @@ import time
 from pathlib import Path
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from abrakit.fem.output import cell_fields, meshio_cells
 from abrakit.io import CurveWriter, VtuSeries
 from abrakit.scratch.budget import BoundaryFaces, VolumeBudget, volume_budget
+from abrakit.validation import number_arguments
 
 __all__ = ["BUDGET_COLUMNS", "CURVE_COLUMNS", "PHASES", "ScratchRecorder", "slide_mean"]
 
@@ -125,7 +127,8 @@ class ScratchRecorder:
             self.curves_file.close()
 
 
-def slide_mean(slide: np.ndarray, values: np.ndarray) -> float:
+@number_arguments
+def slide_mean(slide: ArrayLike, values: ArrayLike) -> float:
     """Mean of ``values`` over the slide distance, ∫ v dz / Δz by the trapezoidal rule over the increments' slide
     positions ``slide`` (NaN if empty, the value itself for one increment).
 
