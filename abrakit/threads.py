@@ -26,8 +26,9 @@ split (numpy's ``dot``, ``vdot``, matrix-vector products) and hold the cores tha
 threads then wait for. On the 2-core machine the first 45 increments of the scratch's coarse mesh on the 300 µm
 block (cProfile) took 89.5 s with two threads in every pool, 58.8 s with one, and 42.3 s with two threads
 everywhere but OpenBLAS: the material update 36 → 16 ms per call, a PARDISO call 21 → 9.5 ms. The pieces timed
-alone (``benchmarks/bench_threads.py``) do not show it, a whole run does (its ``runs`` table). abrakit's
-vectors and dense matrices are too small for OpenBLAS's threads to pay back."""
+alone (``benchmarks/bench_threads.py``) do not show it, a whole run does (its ``runs`` table). Nothing else in
+abrakit gains from OpenBLAS's threads: the four-point-bending, Model I, localisation and DEM examples ran as fast
+with one OpenBLAS thread as with two (three alternating runs each, within their ±10 % scatter)."""
 
 from __future__ import annotations
 
