@@ -96,12 +96,12 @@ def _limit_loaded(threads: int) -> None:
     """Limit the BLAS/OpenMP pools already loaded in this process to ``threads`` (OpenBLAS's to
     :func:`_openblas_threads`; threadpoolctl, nothing if it is missing)."""
     try:
-        from threadpoolctl import threadpool_info, threadpool_limits
+        from threadpoolctl import ThreadpoolController
     except ImportError:                                           # pragma: no cover - a dependency
         return
     blas = _openblas_threads(threads)
-    threadpool_limits(limits={pool["prefix"]: blas if pool["internal_api"] == "openblas" else threads
-                              for pool in threadpool_info()})
+    for pool in ThreadpoolController().lib_controllers:          # one scan of the loaded libraries
+        pool.set_num_threads(blas if pool.internal_api == "openblas" else threads)
 
 
 def limit_threads(threads: int) -> None:

@@ -136,14 +136,16 @@ def wake_readings(scene: ScratchScene, folder: Path) -> dict:
 def with_errors(rows: dict[str, dict]) -> str | None:
     """Relative errors of F_N, A_g and f_ab (rates) of every level against the finest finished level of the same
     slide (100 µm, or 200 µm for the ``_long`` runs); returns the reference of the 100 µm runs."""
+    levels = (*LEVELS, *LONG_ONLY)                                        # coarsest to finest
+
     def finest(suffix: str) -> dict | None:
-        names = [level + suffix for level in (*LEVELS, *LONG_ONLY)[::-1]]
+        names = [level + suffix for level in levels[::-1]]
         return next((rows[n] for n in names if n in rows and rows[n]["status"] == "finished"), None)
 
     references = {"": finest(""), "_long": finest("_long")}
     for name, row in rows.items():
         suffix = "_long" if name.endswith("_long") else ""
-        ref = references[suffix] if name.removesuffix(suffix) in (*LEVELS, *LONG_ONLY) else None
+        ref = references[suffix] if name.removesuffix(suffix) in levels else None
         for key in ("F_N", "A_g_um2", "f_ab_rates"):
             row[f"{key.removesuffix('_um2')}_error"] = abs(row[key] / ref[key] - 1.0) if ref else np.nan
     return references[""]["name"] if references[""] else None

@@ -140,19 +140,22 @@ def run_settings() -> dict[str, dict]:
             "one thread": {"ABRAKIT_THREADS": "1"}}
 
 
+def child_environment(env: dict) -> dict:
+    """This process's environment without the thread settings (:data:`_OURS`), with a setting's ``env``."""
+    return {k: v for k, v in os.environ.items() if k not in _OURS} | env
+
+
 def measure_run(mesh: str, slide: float, env: dict) -> dict:
     """Wall time, Newton iterations and DOF of one whole scratch run in a fresh process."""
-    clean = {k: v for k, v in os.environ.items() if k not in _OURS} | env
-    out = subprocess.run([sys.executable, "-c", RUN, mesh, str(slide)], env=clean, capture_output=True, text=True,
-                         check=True)
+    out = subprocess.run([sys.executable, "-c", RUN, mesh, str(slide)], env=child_environment(env),
+                         capture_output=True, text=True, check=True)
     return json.loads(out.stdout.strip().splitlines()[-1])
 
 
 def measure(mesh: str, processes: int, env: dict) -> dict:
     """The pieces' seconds, the mean over ``processes`` concurrent probes."""
-    clean = {k: v for k, v in os.environ.items() if k not in _OURS} | env
-    running = [subprocess.Popen([sys.executable, "-c", PROBE, mesh], env=clean, stdout=subprocess.PIPE, text=True)
-               for _ in range(processes)]
+    running = [subprocess.Popen([sys.executable, "-c", PROBE, mesh], env=child_environment(env),
+                                stdout=subprocess.PIPE, text=True) for _ in range(processes)]
     results = [json.loads(p.communicate()[0].strip().splitlines()[-1]) for p in running]
     return {k: float(np.mean([r[k] for r in results])) for k in results[0]}
 

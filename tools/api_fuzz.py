@@ -209,9 +209,8 @@ would enter the catalogue as valid calls)."""
 
 def harvest(tests=("tests",), out: Path = CATALOGUE, merge: bool = False) -> dict:
     """Run the tests (paths or pytest node ids) under the hook and pickle the calls found (``{name: [kwargs,
-    ...]}``). ``merge``: keep the stored catalogue's calls of every callable these tests did not call (a whole
-    harvest takes about three hours under the profiler; one of a few test files refreshes the callables they
-    call, e.g. after a signature changed)."""
+    ...]}``). ``merge``: add the calls found to the stored catalogue (:func:`merged`) instead of replacing it (a
+    whole harvest takes about three hours under the profiler, one of a few test files minutes)."""
     import pytest
 
     harvester = Harvester()
@@ -418,8 +417,8 @@ if __name__ == "__main__":
     parser = argparse.ArgumentParser(description="Fuzz abrakit's public API with invalid input")
     parser.add_argument("stage", choices=("harvest", "fuzz"))
     parser.add_argument("--out", type=Path, default=ROOT / "benchmarks" / "results" / "api_fuzz.json")
-    parser.add_argument("--merge", action="store_true", help="harvest: keep the stored calls of callables the "
-                                                              "given tests do not call")
+    parser.add_argument("--merge", action="store_true", help="harvest: add the calls found to the stored "
+                                                              "catalogue")
     parser.add_argument("tests", nargs="*", default=["tests"], help="harvest: test files or node ids (all tests)")
     args = parser.parse_intermixed_args()
     if args.stage == "harvest":
