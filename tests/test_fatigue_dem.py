@@ -190,6 +190,28 @@ def test_fatigue_bonds_refuse_a_periodic_cell_mixed_parameters_and_bad_input():
 
 
 @pytest.mark.skipif(not HAVE_NUMBA, reason="the compiled bond update needs numba (extra 'fast')")
+@pytest.mark.skipif(not HAVE_NUMBA, reason="the compiled finish needs numba")
+def test_the_compiled_finish_of_the_bond_update_is_the_numpy_one_to_the_last_bit():
+    """After the return, the compiled loop (new e_n, e_s, σ, plastic flow, stress extremes, force and torques)
+    repeats the NumPy lines' operations in their order: every array equal bit for bit, on the coarse beam under a
+    sudden 200 N load where bonds yield and some e_s are zero."""
+    from abrakit.experiments.bending import BeamSpec, four_point_beam
+
+    beam = four_point_beam(BeamSpec(radius=5e-3), control="force")
+    beam.set_load(200.0)
+    beam.step(300)
+    b, p = beam.sim.fatigue_bonds, beam.sim.particles
+    trial = b._compiled_trial(p.x, p.v, p.w, p.radius, beam.sim.dt)
+    du_n, du_s, damage, sigma_n, sigma_s, trial_n, trial_s, size_s, n, arm_i, arm_j, _ = trial
+    assert np.count_nonzero(du_n) + np.count_nonzero(du_s) > 0              # some bonds flow in this step
+    args = (trial_n, trial_s, size_s, du_n, du_s, damage, sigma_n, sigma_s, n, arm_i, arm_j)
+    (new_a, *loads_a), (new_b, *loads_b) = (b._finish(*args, compiled=c) for c in (False, True))
+    for name in ("elastic_n", "elastic_s", "damage", "sigma", "plastic", "peak", "low", "ratchet"):
+        assert np.array_equal(getattr(new_a, name), getattr(new_b, name)), name
+    for a, c in zip(loads_a, loads_b, strict=True):
+        assert np.array_equal(a, c)
+
+
 def test_the_compiled_bond_update_gives_the_numpy_update_through_yielding(monkeypatch):
     """Issue 37: the compiled update (kinematics, turn into the contact plane, trial stresses and yield test in one
     loop, the yielding bonds' return in another: :mod:`abrakit.fatigue._return_kernel`) against the NumPy update on

@@ -18,13 +18,14 @@ compression).
 
 from __future__ import annotations
 
-from dataclasses import dataclass, fields, replace
+import copy
+from dataclasses import dataclass, fields
 
 import numpy as np
 
 from abrakit.dem.bonds import _bond_kinematics, candidate_bond_pairs
 from abrakit.dem.contact_laws import _cross, _dot, _turn_into_plane
-from abrakit.dem.kernels import HAVE_NUMBA, fatigue_bond_trial
+from abrakit.dem.kernels import HAVE_NUMBA, fatigue_bond_finish, fatigue_bond_trial
 from abrakit.fatigue._return_kernel import plastic_return_bonds
 from abrakit.fatigue.bond_law import BondParameters, plastic_return
 from abrakit.fatigue.paris import cycle_update
@@ -116,17 +117,31 @@ class FatigueBonds:
             du_n, du_s, damage, sigma_n, sigma_s = plastic_return(
                 trial_n, size_s, self.damage, self.params, start=(start_n, np.sqrt(_dot(start_s, start_s))),
                 stiffness=(self.kn, self.ks))
+        return *self._finish(trial_n, trial_s, size_s, du_n, du_s, damage, sigma_n, sigma_s, n, arm_i, arm_j,
+                             compiled=compiled), point
+
+    def _finish(self, trial_n, trial_s, size_s, du_n, du_s, damage, sigma_n, sigma_s, n, arm_i, arm_j, *,
+                compiled: bool):
+        """After the return: the new bonds (e_s shortened by its plastic part, the stress extremes and plastic flow
+        of the cycle) and the force on j, −A (σ_n n + k_s (1 − D) e_s), with its torques on i and j. ``compiled``:
+        the same operations in one loop (:func:`abrakit.dem.kernels.fatigue_bond_finish`), the same numbers to the
+        last bit."""
+        new = copy.copy(self)
+        new.damage = damage
+        if compiled:
+            new.elastic_n, new.elastic_s, new.sigma, new.plastic, new.peak, new.low, new.ratchet, *loads = \
+                fatigue_bond_finish(trial_n, trial_s, size_s, du_n, du_s, damage, sigma_n, sigma_s, n, arm_i, arm_j,
+                                    self.area, self.ks, self.plastic, self.peak, self.low, self.ratchet)
+            return new, *loads
         shrink = np.divide(size_s - du_s, size_s, out=np.ones_like(size_s), where=size_s > 0)
-        elastic_s = trial_s * shrink
-        sigma = np.array([sigma_n, sigma_s])
+        new.elastic_n, new.elastic_s = trial_n - du_n, trial_s * shrink
+        new.sigma = sigma = np.array([sigma_n, sigma_s])
         flow = np.abs([du_n, du_s])
-        new = replace(self, elastic_n=trial_n - du_n, elastic_s=elastic_s, damage=damage,
-                      plastic=self.plastic + flow, sigma=sigma,
-                      peak=np.maximum(self.peak, sigma), low=np.minimum(self.low, sigma),
-                      ratchet=self.ratchet + flow)
-        force = -self.area * (sigma_n * n + self.ks * (1.0 - damage) * elastic_s)
+        new.plastic, new.ratchet = self.plastic + flow, self.ratchet + flow
+        new.peak, new.low = np.maximum(self.peak, sigma), np.minimum(self.low, sigma)
+        force = -self.area * (sigma_n * n + self.ks * (1.0 - damage) * new.elastic_s)
         lever = _cross(n, force)
-        return new, force, -arm_i * lever, -arm_j * lever, point
+        return new, force, -arm_i * lever, -arm_j * lever
 
     def _compiled_trial(self, x, v, w, radius, dt):
         """The compiled elastic trial of every bond, then the plastic return of the bonds that yield."""

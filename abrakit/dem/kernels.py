@@ -376,3 +376,72 @@ def fatigue_bond_trial(i, j, x, v, w, radius, elastic_n, elastic_s, damage, kn, 
         arm_i[b], arm_j[b] = ai, aj
         trial_n[b], size_s[b], sigma_n[b], sigma_s[b] = tn, size, sn, ss
     return n, arm_i, arm_j, point, start_size, trial_n, trial_s, size_s, sigma_n, sigma_s, active
+
+
+@njit(cache=True)
+def scatter_pair_loads(force, torque, i, j, force_on_j, torque_on_i, torque_on_j):  # pragma: no cover - compiled
+    """:func:`~abrakit.dem.simulation._scatter_pair_loads` as one loop over the pairs: each particle's four sums
+    (force on it as j and as i, torque as i and as j) are built in pair order, as ``np.bincount`` builds them,
+    and combined as the NumPy version combines them, so both give the same sums to the last bit."""
+    N, M = force.shape[0], i.shape[0]
+    as_j, as_i = np.zeros((N, 3)), np.zeros((N, 3))
+    t_i, t_j = np.zeros((N, 3)), np.zeros((N, 3))
+    for b in range(M):
+        a, c = i[b], j[b]
+        for k in range(3):
+            as_j[c, k] += force_on_j[k, b]
+            as_i[a, k] += force_on_j[k, b]
+            t_i[a, k] += torque_on_i[k, b]
+            t_j[c, k] += torque_on_j[k, b]
+    for p in range(N):
+        for k in range(3):
+            force[p, k] += as_j[p, k] - as_i[p, k]
+            torque[p, k] += t_i[p, k] + t_j[p, k]
+
+
+@njit(cache=True)
+def _larger(a, b):  # pragma: no cover - compiled where numba is installed
+    """np.maximum of two numbers (NaN wins)."""
+    return a if (a >= b or a != a) else b
+
+
+@njit(cache=True)
+def _smaller(a, b):  # pragma: no cover - compiled where numba is installed
+    """np.minimum of two numbers (NaN wins)."""
+    return a if (a <= b or a != a) else b
+
+
+@njit(cache=True)
+def fatigue_bond_finish(trial_n, trial_s, size_s, du_n, du_s, damage, sigma_n, sigma_s, n, arm_i, arm_j, area, ks,
+                        plastic, peak, low, ratchet):  # pragma: no cover - compiled where numba is installed
+    """The rest of :meth:`~abrakit.dem.fatigue_bonds.FatigueBonds.update` after the return, in one loop over the
+    bonds and with the NumPy version's operations in its order (the same numbers to the last bit): the shear
+    displacement shortened by its plastic part, the new state (e_n, e_s, σ, accumulated |Δuᵖ|, the cycle's stress
+    extremes and plastic flow) and the bond's force on j, −A (σ_n n + k_s (1 − D) e_s), with its torques on i and
+    j. Returns ``(elastic_n, elastic_s, sigma, plastic, peak, low, ratchet, force, torque_i, torque_j)``."""
+    B = trial_n.shape[0]
+    elastic_n, elastic_s = np.empty(B), np.empty((3, B))
+    sigma, new_plastic = np.empty((2, B)), np.empty((2, B))
+    new_peak, new_low, new_ratchet = np.empty((2, B)), np.empty((2, B)), np.empty((2, B))
+    force, torque_i, torque_j = np.empty((3, B)), np.empty((3, B)), np.empty((3, B))
+    for b in range(B):
+        shrink = (size_s[b] - du_s[b]) / size_s[b] if size_s[b] > 0 else 1.0
+        e0, e1, e2 = trial_s[0, b] * shrink, trial_s[1, b] * shrink, trial_s[2, b] * shrink
+        elastic_s[0, b], elastic_s[1, b], elastic_s[2, b] = e0, e1, e2
+        elastic_n[b] = trial_n[b] - du_n[b]
+        sigma[0, b], sigma[1, b] = sigma_n[b], sigma_s[b]
+        flow_n, flow_s = abs(du_n[b]), abs(du_s[b])
+        new_plastic[0, b], new_plastic[1, b] = plastic[0, b] + flow_n, plastic[1, b] + flow_s
+        new_ratchet[0, b], new_ratchet[1, b] = ratchet[0, b] + flow_n, ratchet[1, b] + flow_s
+        new_peak[0, b], new_peak[1, b] = _larger(peak[0, b], sigma_n[b]), _larger(peak[1, b], sigma_s[b])
+        new_low[0, b], new_low[1, b] = _smaller(low[0, b], sigma_n[b]), _smaller(low[1, b], sigma_s[b])
+        shear = ks[b] * (1.0 - damage[b])
+        n0, n1, n2 = n[0, b], n[1, b], n[2, b]
+        f0 = -area[b] * (sigma_n[b] * n0 + shear * e0)
+        f1 = -area[b] * (sigma_n[b] * n1 + shear * e1)
+        f2 = -area[b] * (sigma_n[b] * n2 + shear * e2)
+        force[0, b], force[1, b], force[2, b] = f0, f1, f2
+        l0, l1, l2 = n1 * f2 - n2 * f1, n2 * f0 - n0 * f2, n0 * f1 - n1 * f0
+        torque_i[0, b], torque_i[1, b], torque_i[2, b] = -arm_i[b] * l0, -arm_i[b] * l1, -arm_i[b] * l2
+        torque_j[0, b], torque_j[1, b], torque_j[2, b] = -arm_j[b] * l0, -arm_j[b] * l1, -arm_j[b] * l2
+    return elastic_n, elastic_s, sigma, new_plastic, new_peak, new_low, new_ratchet, force, torque_i, torque_j

@@ -24,6 +24,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from abrakit.compiled import HAVE_NUMBA
 from abrakit.dem.bonds import CrackLog, ParallelBonds, _parallel_bond_update
 from abrakit.dem.clumps import make_clumps
 from abrakit.dem.contact_laws import ContactForces, Linear, _cross, _dot, _force_displacement, _rowdot
@@ -35,7 +36,7 @@ from abrakit.dem.walls import Walls
 from abrakit.io import progress_bar
 from abrakit.validation import check_finite, check_option, check_positive, check_range
 
-__all__ = ["EnergyAccount", "ParticleEscapeError", "Simulation", "TimeStepError"]
+__all__ = ["COMPILED_SCATTER", "EnergyAccount", "ParticleEscapeError", "Simulation", "TimeStepError"]
 
 #: Largest distance a particle may travel in one step, as a fraction of the smallest radius (automatic Δt).
 MAX_TRAVEL = 0.25
@@ -122,9 +123,21 @@ def _scatter(out, index, values, sign=1.0):
         out[:, k] += sign * np.bincount(index, values[k], n)
 
 
-def _scatter_pair_loads(force, torque, i, j, force_on_j, torque_on_i, torque_on_j) -> None:
+COMPILED_SCATTER = HAVE_NUMBA
+"""Whether the pair loads of contacts and bonds are summed onto the particles by a compiled loop (where numba is
+installed; the same sums as np.bincount's, bit for bit)."""
+
+
+def _scatter_pair_loads(force, torque, i, j, force_on_j, torque_on_i, torque_on_j, *, compiled=None) -> None:
     """Add the force of pairs i–j (on j, its reaction on i) and their torques on i and j to the particle sums
-    (contacts and bonds; each component's two sums are added at once)."""
+    (contacts and bonds; each component's two sums are added at once). Where numba is installed, one compiled
+    loop builds the same sums in the same order (``compiled``, default :data:`COMPILED_SCATTER`;
+    :func:`abrakit.dem.kernels.scatter_pair_loads`)."""
+    if COMPILED_SCATTER if compiled is None else compiled:
+        from abrakit.dem.kernels import scatter_pair_loads
+
+        return scatter_pair_loads(force, torque, i, j, np.ascontiguousarray(force_on_j),
+                                  np.ascontiguousarray(torque_on_i), np.ascontiguousarray(torque_on_j))
     n = len(force)
     for k in range(3):
         force[:, k] += np.bincount(j, force_on_j[k], n) - np.bincount(i, force_on_j[k], n)

@@ -32,9 +32,14 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from abrakit.compiled import HAVE_NUMBA
 from abrakit.validation import check_finite, check_option, check_positive, check_range
 
-__all__ = ["Rollers"]
+__all__ = ["COMPILED_CONTACTS", "Rollers"]
+
+COMPILED_CONTACTS = HAVE_NUMBA
+"""Whether :meth:`Rollers.contact_forces` runs the compiled loop (:mod:`abrakit.experiments._pad_kernel`; where
+numba is installed) or the NumPy version; both give the same forces."""
 
 MODES = ("fixed", "prescribed", "force")
 
@@ -103,9 +108,18 @@ class Rollers:
         self.y0 = self.y.copy()
 
     # ------------------------------------------------------------------ contact
-    def contact_forces(self, x, radius):
+    def contact_forces(self, x, radius, *, compiled: bool | None = None):
         """Forces of the pads on the particles, (N, 2) [N], and per pad the reaction (K, 2) and the moment about
-        its pivot (K,). Stores the contacts (pad, particle, s, f) for :meth:`centre_of_pressure`."""
+        its pivot (K,). Stores the contacts (pad, particle, s, f) for :meth:`centre_of_pressure`. ``compiled``
+        (default :data:`COMPILED_CONTACTS`) runs the same equations in one compiled loop."""
+        if COMPILED_CONTACTS if compiled is None else compiled:
+            from abrakit.experiments._pad_kernel import pad_contacts
+
+            on_particles, reaction, moment, *contacts = pad_contacts(
+                np.ascontiguousarray(x, dtype=float), np.asarray(radius, float), self.x0, self.y, self.theta,
+                self.side, float(self.pad), float(self.k))
+            self._contacts = tuple(contacts)
+            return on_particles, reaction, moment
         x = np.asarray(x)[:, :2]
         c, s_ = np.cos(self.theta), np.sin(self.theta)
         t = np.column_stack([c, s_])                                     # (K, 2)
