@@ -27,7 +27,7 @@ from abrakit.dem.bonds import _bond_kinematics, candidate_bond_pairs
 from abrakit.dem.contact_laws import _cross, _dot, _turn_into_plane
 from abrakit.dem.kernels import HAVE_NUMBA, fatigue_bond_finish, fatigue_bond_trial
 from abrakit.fatigue._return_kernel import plastic_return_bonds
-from abrakit.fatigue.bond_law import BondParameters, plastic_return
+from abrakit.fatigue.bond_law import MAX_HALVINGS, BondParameters, plastic_return
 from abrakit.fatigue.paris import cycle_update
 from abrakit.validation import check_option, check_positive
 
@@ -155,8 +155,9 @@ class FatigueBonds:
         if a.size and COMPILED_RETURN:
             du_n[a], du_s[a], damage[a], sigma_n[a], sigma_s[a], converged = plastic_return_bonds(
                 trial_n[a], size_s[a], self.damage[a], self.kn[a], self.ks[a], p.un, p.us, p.cohesion,
-                p.tensile_strength, p.tan_phi, p.tan_psi, p.alpha, 1e-12, 60)
-            f = a[~converged]                          # these need a split step: the NumPy return's ``start``
+                p.tensile_strength, p.tan_phi, p.tan_psi, p.alpha, 1e-12, 60, self.elastic_n[a], start_size[a],
+                MAX_HALVINGS)
+            f = a[~converged]                          # failed at the deepest split: the NumPy return raises
         if f.size:
             du_n[f], du_s[f], damage[f], sigma_n[f], sigma_s[f] = plastic_return(
                 trial_n[f], size_s[f], self.damage[f], p, start=(self.elastic_n[f], start_size[f]),

@@ -10,8 +10,9 @@ backtracking line search and the same tolerance. It differs only where the vecto
 there every bond iterates until the slowest has converged, here each bond stops when its own residual is below the
 tolerance, so the results agree to the tolerance, not bit for bit
 (``tests/test_fatigue_bond.py::test_the_compiled_return_equals_the_numpy_return_to_its_tolerance``). A bond
-whose Newton iteration fails is flagged, and the caller returns it with the NumPy version, which splits its step
-(``start``, ``max_halvings``).
+whose Newton iteration fails splits its step in halves as the NumPy version does (``start``, ``max_halvings``;
+a beam at 95 % of its strength spent 11 minutes a cycle in the NumPy splits of a few nearly broken bonds); one that
+fails at the deepest split is flagged for the NumPy version, which raises.
 """
 
 from __future__ import annotations
@@ -83,61 +84,98 @@ def _solve3(J, rhs):  # pragma: no cover - compiled where numba is installed
 
 
 @njit(cache=True)
+def _newton_one(tn, ts, d0, kn, ks, un, us, c, tan_phi, tan_psi, alpha2, q0_unit, tol,
+                max_iter):  # pragma: no cover - compiled where numba is installed
+    """One bond's return from the elastic trial (tn, ts) at damage d0 (``bond_law.plastic_return`` without the
+    split): zero increments where the trial lies inside the surface (F ≤ tol · scale², the NumPy return's test),
+    else Newton's method from the linearised first guess. Returns ``(converged, du_n, du_s, damage, σ_n, σ_s)``."""
+    intact = 1.0 - d0
+    sn, ss = elastic_stresses(tn, ts, intact, kn, ks)
+    scale = surface_size(sn, intact, c, tan_phi)
+    f0 = yield_function(sn, ss, intact, c, q0_unit, tan_phi, alpha2)
+    if not f0 > tol * scale * scale:
+        return True, 0.0, 0.0, d0, sn, ss
+    y, shifted, trial, step = np.empty(3), np.empty(3), np.empty(3), np.empty(3)
+    r, rt = np.empty(3), np.empty(3)
+    J = np.empty((3, 3))
+    # First guess: one linearised return at the trial stress, damage frozen.
+    fn = tan_psi * (c * intact - sn * tan_psi)
+    dfn = 2.0 * tan_phi * abs(c * intact - sn * tan_phi)
+    dfs = 2.0 * alpha2 * ss
+    g0 = f0 / (dfn * (kn * intact) * fn + dfs * ks * intact * ss)
+    y[0], y[1], y[2] = g0 * fn / un, g0 * ss / us, g0 * c / us
+    r[0], r[1], r[2], d, sn, ss = _residual(y[0], y[1], y[2], tn, ts, d0, kn, ks, scale, un, us, c, tan_phi,
+                                            tan_psi, alpha2, q0_unit)
+    for _ in range(max_iter):
+        size = max(abs(r[0]), abs(r[1]), abs(r[2]))
+        if size < tol:
+            break
+        for col in range(3):
+            h = 1e-7 * max(abs(y[col]), 1e-6)
+            shifted[:] = y
+            shifted[col] += h
+            rs0, rs1, rs2, _, _, _ = _residual(shifted[0], shifted[1], shifted[2], tn, ts, d0, kn, ks, scale, un,
+                                               us, c, tan_phi, tan_psi, alpha2, q0_unit)
+            J[0, col], J[1, col], J[2, col] = (rs0 - r[0]) / h, (rs1 - r[1]) / h, (rs2 - r[2]) / h
+        step[:] = _solve3(J, -r)
+        t = 1.0                                   # halve the step until the residual decreases
+        for _ in range(30):
+            for m in range(3):
+                trial[m] = y[m] + t * step[m]
+            trial[0] = max(trial[0], 0.0)             # Δu_nᵖ ≥ 0 on the physical branch (ψ ≤ φ)
+            trial[2] = max(trial[2], 0.0)
+            rt[0], rt[1], rt[2], d, sn, ss = _residual(trial[0], trial[1], trial[2], tn, ts, d0, kn, ks, scale, un,
+                                                       us, c, tan_phi, tan_psi, alpha2, q0_unit)
+            if max(abs(rt[0]), abs(rt[1]), abs(rt[2])) < size:
+                break
+            t *= 0.5
+        y[:] = trial
+        r[:] = rt
+    converged = max(abs(r[0]), abs(r[1]), abs(r[2])) < tol
+    return converged, y[0] * un, y[1] * us, d, sn, ss
+
+
+@njit(cache=True)
 def plastic_return_bonds(trial_n, trial_s, damage, kn, ks, un, us, c, tensile_strength, tan_phi, tan_psi, alpha,
-                         tol, max_iter):  # pragma: no cover - compiled where numba is installed
+                         tol, max_iter, start_n, start_s, max_halvings):  # pragma: no cover - compiled
     """Return every given bond onto its yield surface (the bonds are those the elastic trial found outside it).
 
     Arguments as :func:`~abrakit.fatigue.bond_law.plastic_return` (elastic trial displacements, damage at the step's
-    start, per-bond stiffnesses) with the parameters unpacked. Returns ``(du_n, du_s, damage, sigma_n, sigma_s,
-    converged)``; a bond with ``converged`` False is to be returned again by the NumPy version."""
+    start, per-bond stiffnesses, the elastic displacements at the step's start ``start_n``, ``start_s`` and
+    ``max_halvings``) with the parameters unpacked. A bond whose Newton iteration fails splits its step in halves,
+    as the NumPy return does: the path from the start to the trial is cut into intervals, depth first, each
+    returned from the state the intervals before it left (the plastic displacements taken off its end point), and
+    an interval that fails is halved, at most ``max_halvings`` times. Returns ``(du_n, du_s, damage, sigma_n,
+    sigma_s, converged)``; a bond with ``converged`` False failed at the deepest split (the NumPy return raises
+    there)."""
     B = trial_n.shape[0]
     du_n, du_s, d_out = np.zeros(B), np.zeros(B), damage.copy()
     sigma_n, sigma_s = np.zeros(B), np.zeros(B)
     converged = np.zeros(B, dtype=np.bool_)
     alpha2 = alpha * alpha
     q0_unit = c - tensile_strength * tan_phi
-    y, shifted, trial, step = np.empty(3), np.empty(3), np.empty(3), np.empty(3)
-    r, rt = np.empty(3), np.empty(3)
-    J = np.empty((3, 3))
+    pending_a, pending_b = np.empty(max_halvings + 1), np.empty(max_halvings + 1)
+    pending_depth = np.empty(max_halvings + 1, np.int64)
     for k in range(B):
-        tn, ts, d0 = trial_n[k], trial_s[k], damage[k]
-        intact = 1.0 - d0
-        sn, ss = elastic_stresses(tn, ts, intact, kn[k], ks[k])
-        scale = surface_size(sn, intact, c, tan_phi)
-        # First guess: one linearised return at the trial stress, damage frozen.
-        fn = tan_psi * (c * intact - sn * tan_psi)
-        dfn = 2.0 * tan_phi * abs(c * intact - sn * tan_phi)
-        dfs = 2.0 * alpha2 * ss
-        g0 = (yield_function(sn, ss, intact, c, q0_unit, tan_phi, alpha2)
-              / (dfn * (kn[k] * intact) * fn + dfs * ks[k] * intact * ss))
-        y[0], y[1], y[2] = g0 * fn / un, g0 * ss / us, g0 * c / us
-        r[0], r[1], r[2], d, sn, ss = _residual(y[0], y[1], y[2], tn, ts, d0, kn[k], ks[k], scale, un, us, c,
-                                                tan_phi, tan_psi, alpha2, q0_unit)
-        for _ in range(max_iter):
-            size = max(abs(r[0]), abs(r[1]), abs(r[2]))
-            if size < tol:
-                break
-            for col in range(3):
-                h = 1e-7 * max(abs(y[col]), 1e-6)
-                shifted[:] = y
-                shifted[col] += h
-                rs0, rs1, rs2, _, _, _ = _residual(shifted[0], shifted[1], shifted[2], tn, ts, d0, kn[k], ks[k],
-                                                   scale, un, us, c, tan_phi, tan_psi, alpha2, q0_unit)
-                J[0, col], J[1, col], J[2, col] = (rs0 - r[0]) / h, (rs1 - r[1]) / h, (rs2 - r[2]) / h
-            step[:] = _solve3(J, -r)
-            t = 1.0                                   # halve the step until the residual decreases
-            for _ in range(30):
-                for m in range(3):
-                    trial[m] = y[m] + t * step[m]
-                trial[0] = max(trial[0], 0.0)             # Δu_nᵖ ≥ 0 on the physical branch (ψ ≤ φ)
-                trial[2] = max(trial[2], 0.0)
-                rt[0], rt[1], rt[2], d, sn, ss = _residual(trial[0], trial[1], trial[2], tn, ts, d0, kn[k], ks[k],
-                                                           scale, un, us, c, tan_phi, tan_psi, alpha2, q0_unit)
-                if max(abs(rt[0]), abs(rt[1]), abs(rt[2])) < size:
+        a, b, depth, top = 0.0, 1.0, 0, 0              # the interval [a, b] of the step's path, and the stack
+        plastic_n, plastic_s, d = 0.0, 0.0, damage[k]
+        while True:
+            end_n = trial_n[k] if b == 1.0 else start_n[k] + b * (trial_n[k] - start_n[k])
+            end_s = trial_s[k] if b == 1.0 else start_s[k] + b * (trial_s[k] - start_s[k])
+            ok, dn, ds, d_new, sn, ss = _newton_one(end_n - plastic_n, end_s - plastic_s, d, kn[k], ks[k], un, us,
+                                                    c, tan_phi, tan_psi, alpha2, q0_unit, tol, max_iter)
+            if ok or depth == max_halvings:
+                plastic_n, plastic_s, d = plastic_n + dn, plastic_s + ds, d_new
+                sigma_n[k], sigma_s[k] = sn, ss
+                if not ok or top == 0:
+                    converged[k] = ok
                     break
-                t *= 0.5
-            y[:] = trial
-            r[:] = rt
-        converged[k] = max(abs(r[0]), abs(r[1]), abs(r[2])) < tol
-        du_n[k], du_s[k], d_out[k], sigma_n[k], sigma_s[k] = y[0] * un, y[1] * us, d, sn, ss
+                top -= 1
+                a, b, depth = pending_a[top], pending_b[top], pending_depth[top]
+            else:                                      # halve the interval: its second half waits
+                middle = 0.5 * (a + b)
+                pending_a[top], pending_b[top], pending_depth[top] = middle, b, depth + 1
+                top += 1
+                b, depth = middle, depth + 1
+        du_n[k], du_s[k], d_out[k] = plastic_n, plastic_s, d
     return du_n, du_s, d_out, sigma_n, sigma_s, converged

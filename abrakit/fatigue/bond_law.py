@@ -41,7 +41,8 @@ from numpy.typing import ArrayLike
 
 from abrakit.validation import check_finite, check_number_fields, check_positive, check_range, number_arguments
 
-__all__ = ["BondParameters", "bond_stresses", "criterion", "damage_after", "flow_direction", "plastic_return"]
+__all__ = ["MAX_HALVINGS", "BondParameters", "bond_stresses", "criterion", "damage_after", "flow_direction",
+           "plastic_return"]
 
 
 @dataclass(frozen=True)
@@ -232,23 +233,31 @@ def _newton(y, args, tol, max_iter):
     return y, np.max(np.abs(r), axis=0) < tol
 
 
+MAX_HALVINGS = 12
+"""How often :func:`plastic_return` (and the compiled return of the DEM's bonds) may halve a bond's step whose Newton
+iteration fails: a step split into up to 4096 parts."""
+
+
 @number_arguments
 def plastic_return(trial_n: ArrayLike, trial_s: ArrayLike, damage: ArrayLike, p: BondParameters, *, normal_stress=None,
-                   start=None, stiffness=None, tol: float = 1e-12, max_iter: int = 60, max_halvings: int = 12):
+                   start=None, stiffness=None, tol: float = 1e-12, max_iter: int = 60,
+                   max_halvings: int | None = None):
     """Return a trial state onto the yield surface (Eqs. 15–22); vectorised over bonds.
 
     ``trial_n``, ``trial_s`` are the elastic displacements u − uᵖ − uᶠ at the start-of-step plastic state, ``damage``
     the damage at the start of the step. With ``normal_stress`` given, σ_n is prescribed (a free normal
     displacement, e.g. pure shear at σ_n = 0) and ``trial_n`` is ignored. ``start`` = (start_n, start_s), the
     elastic displacements at the start of the step, lets a bond whose Newton iteration fails (a trial many times
-    beyond the strength) split its step in halves, up to ``max_halvings`` times. ``stiffness`` = (k_n, k_s) per bond
-    replaces ``p.kn``, ``p.ks`` (bonds of different sizes in a DEM assembly).
+    beyond the strength) split its step in halves, up to ``max_halvings`` times (:data:`MAX_HALVINGS`).
+    ``stiffness`` = (k_n, k_s) per bond replaces ``p.kn``, ``p.ks`` (bonds of different sizes in a DEM
+    assembly).
 
     Returns ``(du_n_p, du_s_p, damage, sigma_n, sigma_s)``; bonds inside the surface return zero increments. The
     three equations (flow rule Eq. 19, 20 and F = 0 with the damage of Eq. 21 at the *end* of the step, fully
     implicit) are solved by Newton's method; a bond that cannot be returned raises ``RuntimeError`` rather than
     returning an inadmissible state.
     """
+    max_halvings = MAX_HALVINGS if max_halvings is None else max_halvings
     trial_n, trial_s, damage = np.broadcast_arrays(*(np.atleast_1d(check_finite(name, v)) for name, v in
                                                       (("trial_n", trial_n), ("trial_s", trial_s), ("damage", damage))))
     kn, ks = (np.broadcast_to(np.asarray(k, float), trial_s.shape)
