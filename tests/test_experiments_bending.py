@@ -257,6 +257,7 @@ def test_an_interrupted_cyclic_run_resumes_from_its_checkpoint_with_the_same_his
     beam = four_point_beam(COARSE, control="force")           # a finished run is read back, not continued
     again = cyclic_bending(beam, 120.0, checkpoint=state, csv=csv, vtu=vtu, **kwargs)
     assert again["stopped"] == "life" and again["life"] == full["life"]
+    assert first["seconds"] < again["seconds"] <= resumed["seconds"]   # the run's time over its calls, kept
     assert np.array_equal(again["cycles"], full["cycles"]) and beam.sim.time == resumed_time(state)
     assert (vtu / "bonds.pvd").read_text().count("<DataSet") == len(full["cycles"])
 

@@ -422,7 +422,9 @@ def cyclic_bending(beam: Beam, load_max: float, *, load_min_ratio: float = 0.0, 
     ``cycles`` (the count after its fatigue update, the jump's skipped cycles included: ``cycles − measured_at``
     of them), ``modulus``, ``deflection``, ``residual`` (δ at the cycle's end), ``damaged`` (D > 2 D₀),
     ``yielding`` (bonds that yielded in the sampled cycle, hence got no fatigue) and ``broken`` bond counts, plus
-    ``life`` (or None), ``stopped``, ``amplification`` and the timing; with ``csv`` each row is written as it is
+    ``life`` (or None), ``stopped``, ``amplification`` and ``seconds``, the run's wall time over all the calls that
+    computed it (a checkpoint keeps it; checkpoints written before it did count from their resumption); with ``csv``
+    each row is written as it is
     computed. With ``checkpoint`` (a file) the state is saved after every simulated cycle and a
     run that finds the file resumes from it, rewriting ``csv`` from the saved records: an interrupted run loses at
     most the cycle it was in and then finishes with the same history; a finished run (life, failure, shakedown) is
@@ -464,6 +466,7 @@ def cyclic_bending(beam: Beam, load_max: float, *, load_min_ratio: float = 0.0, 
     if series is not None:                 # a resumed run keeps the files it wrote before the interruption
         series.entries = [(float(n), f"bonds_{k:05d}.vtu") for k, n in enumerate(record.data["cycles"])]
     clock, stopped, simulated = time.perf_counter(), "max_cycles", 0
+    earlier = 0.0 if saved is None else saved.get("seconds", 0.0)     # the calls before this one
     if saved is not None and saved.get("stopped"):  # a finished run read back from its checkpoint
         stopped, max_cycles = saved["stopped"], cycles
     phase = np.arange(1, steps_per_cycle + 1) / steps_per_cycle
@@ -498,7 +501,8 @@ def cyclic_bending(beam: Beam, load_max: float, *, load_min_ratio: float = 0.0, 
             ended = "shakedown"              # a cycle that changed no damage repeats itself: nothing grows
         if checkpoint is not None:
             save_state(checkpoint, {"sim": sim.snapshot(), "record": record.data, "stopped": ended,
-                                    "rollers": None if beam.rollers is None else beam.rollers.state()})
+                                    "rollers": None if beam.rollers is None else beam.rollers.state(),
+                                    "seconds": earlier + time.perf_counter() - clock})
         if ended:
             stopped = ended
             break
@@ -511,7 +515,8 @@ def cyclic_bending(beam: Beam, load_max: float, *, load_min_ratio: float = 0.0, 
     record.close()
     out = record.arrays()
     out.update(life=int(out["measured_at"][-1]) if stopped == "life" else None, stopped=stopped,
-               simulated_cycles=len(record), amplification=amplification, seconds=time.perf_counter() - clock)
+               simulated_cycles=len(record), amplification=amplification,
+               seconds=earlier + (0.0 if saved is not None and saved.get("stopped") else time.perf_counter() - clock))
     return out
 
 
