@@ -261,6 +261,15 @@ DECISIONS: tuple[Decision, ...] = (
              (BEND + "test_scaled_strengths_give_the_similar_beam_under_a_scaled_load",
               BEND + "test_scaling_the_strengths_scales_the_monotonic_curve_by_the_same_factor",
               "benchmarks/bench_fatigue_beam.py"), "four_point_bending", "choice"),
+    Decision("three stages of the modulus degradation", "the modulus falls in an initial, a middle and a final "
+             "stage (Fig. 17a; the simulation's first stage faster than the test's); no bounds are given",
+             "the stages are N/N_f in [0, 0.1], [0.1, 0.9] and [0.9, 1] (STAGES), each with the slope of a "
+             "least-squares line of E_f/E_f,0 against N/N_f (stage_slopes); initial_over_middle > 1 is a fast "
+             "first stage",
+             "fixed fractions of the life compare runs of any length and any cycle jump; the figure's first stage "
+             "ends within the first tenth of the life and its last begins in the last tenth",
+             (BEND + "test_the_stage_slopes_are_those_of_a_piecewise_linear_degradation",
+              "benchmarks/bench_fatigue_beam.py"), "four_point_bending", "choice"),
     Decision("ratcheting in the cycle jump", "a bond that yields in the sampled cycle gets no fatigue (E = 0 in "
              "Eq. 17); what it does during the jump is not addressed", "the paper's reading by default "
              "(plasticity='frozen': it stands still); plasticity='extrapolated' repeats the sampled cycle's plastic "

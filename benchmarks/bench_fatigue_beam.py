@@ -17,7 +17,9 @@ grading, the cycle jump's accuracy against a cycle-by-cycle run, and the S–N c
    the exact spans), per specimen (the Fuller-graded 6 mm packing with seeds 0 and 1, and the 5 mm lattice): the
    monotonic test, then S–N at the paper's levels of that specimen's own P_max with ΔD_jump = 0.003, the
    ratcheting extrapolated and one settling cycle (8000 steps per cycle, seating load 10 %), a log-linear fit per
-   specimen and over both graded seeds with its residuals in decades (``fatigue_beam_rockers.png``); and each
+   specimen and over both graded seeds with its residuals in decades (``fatigue_beam_rockers.png``), the slopes of
+   the three stages of E_f/E_f,0 against N/N_f of every run that reached its life
+   (:func:`~abrakit.experiments.bending.stage_slopes`); and each
    graded specimen calibrated to the paper's FS_max by similarity (:func:`~abrakit.experiments.bending.
    scaled_strengths`: strengths, softening displacements and loading speed × FS_paper / FS_max), its monotonic test
    rerun to show the calibrated FS_max and the unchanged E_f.
@@ -49,6 +51,7 @@ from abrakit.experiments.bending import (
     measured_cycles,
     monotonic_bending,
     scaled_strengths,
+    stage_slopes,
     table_two,
 )
 from abrakit.experiments.sweeps import run_sweep
@@ -178,6 +181,8 @@ def rocker_study(outdir: Path, checkpoints: Path, quick: bool) -> dict:
              for level in levels for m in monotonic]
     sn = [_measured({**r["params"], **r["result"]})
           for r in run_sweep(fatigue_case, cases, outdir / f"{NAME}_rockers_sn", backend="serial")]
+    for run in sn:                          # the three stages of each run that reached its life
+        run["stages"] = stage_slopes(run["measured_at"], run["modulus_ratio"], run["life"]) if run["life"] else None
     fits = {m["name"]: _log_linear(_runs_of(m, sn)) for m in monotonic}
     fits["graded, both seeds"] = _log_linear([r for r in sn if r["grading"] == "fuller"])
     return {"monotonic": [{k: v for k, v in m.items() if k != "curve"} for m in monotonic], "sn": sn, "fits": fits,

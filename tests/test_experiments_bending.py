@@ -17,6 +17,7 @@ from abrakit.experiments.bending import (
     measured_cycles,
     monotonic_bending,
     scaled_strengths,
+    stage_slopes,
     static_deflection,
     table_two,
     uniaxial_modulus,
@@ -352,3 +353,23 @@ def test_scaling_the_strengths_scales_the_monotonic_curve_by_the_same_factor():
     assert fs2 / fs1 == pytest.approx(0.5, rel=1e-3)
     assert e2 / e1 == pytest.approx(0.5, rel=2e-3)
     assert m2 / m1 == pytest.approx(1.0, rel=1e-3)
+
+
+def test_the_stage_slopes_are_those_of_a_piecewise_linear_degradation():
+    """E_f/E_f,0 falling with slopes −2, −0.3 and −5 per unit N/N_f over [0, 0.1], [0.1, 0.9], [0.9, 1] (sampled
+    unevenly, the bounds included, as a cycle jump samples them): each stage's least-squares line has its slope,
+    and the initial stage is 6.7 × as steep as the middle one; a stage with one point has none."""
+    knots, values = [0.0, 0.1, 0.9, 1.0], [1.0, 0.8, 0.56, 0.06]
+    life = 4000
+    x = np.unique(np.concatenate([np.linspace(0, 0.1, 7), np.geomspace(0.1, 0.9, 13), [0.93, 0.97, 1.0]]))
+    slopes = stage_slopes(x * life, np.interp(x, knots, values), life)
+    assert slopes["initial"] == pytest.approx(-2.0) and slopes["middle"] == pytest.approx(-0.3)
+    assert slopes["final"] == pytest.approx(-5.0) and slopes["initial_over_middle"] == pytest.approx(2.0 / 0.3)
+    sparse = stage_slopes([4, 1200, 2000, 3600, 4000], [1.0, 0.74, 0.68, 0.56, 0.06], 4000)
+    assert np.isnan(sparse["initial"]) and sparse["final"] == pytest.approx(-5.0)
+    with pytest.raises(ValueError, match="bounds"):
+        stage_slopes(x * life, x, life, bounds=(0.5, 0.2))
+    with pytest.raises(ValueError, match="one length"):
+        stage_slopes(x * life, x[:-1], life)
+    with pytest.raises(ValueError, match="life"):
+        stage_slopes(x * life, x, -1.0)

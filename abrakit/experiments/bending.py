@@ -51,11 +51,18 @@ from abrakit.experiments.rollers import Rollers
 from abrakit.experiments.specimen import cache_dir
 from abrakit.fatigue.bond_law import BondParameters
 from abrakit.io import RunRecord, VtuSeries, load_state, save_state
-from abrakit.validation import check_number_fields, check_option, check_positive, check_range, number_arguments
+from abrakit.validation import (
+    check_finite,
+    check_number_fields,
+    check_option,
+    check_positive,
+    check_range,
+    number_arguments,
+)
 
-__all__ = ["FAILURE_SAG", "QUASI_STATIC_TOLERANCE", "Beam", "BeamSpec", "beam_theory_deflection", "cyclic_bending",
-           "flexural", "four_point_beam", "measured_cycles", "monotonic_bending", "scaled_strengths",
-           "static_deflection", "table_two", "uniaxial_modulus"]
+__all__ = ["FAILURE_SAG", "QUASI_STATIC_TOLERANCE", "STAGES", "Beam", "BeamSpec", "beam_theory_deflection",
+           "cyclic_bending", "flexural", "four_point_beam", "measured_cycles", "monotonic_bending", "scaled_strengths",
+           "stage_slopes", "static_deflection", "table_two", "uniaxial_modulus"]
 
 MODULUS = 1.55e9        # E_c of Table 2 [Pa]
 STIFFNESS_RATIO = 2.4   # k_n / k_s of Table 2
@@ -591,6 +598,35 @@ def measured_cycles(cycles: ArrayLike) -> np.ndarray:
     if cycles.ndim != 1 or np.any(np.diff(cycles) < 1) or (cycles.size and cycles[0] < 1):
         raise ValueError("cycles must be a rising sequence of cycle counts ≥ 1, one per simulated cycle")
     return np.concatenate([[1], cycles[:-1] + 1]) if cycles.size else cycles
+
+
+STAGES = (0.1, 0.9)
+"""Bounds of the three stages of the modulus degradation as fractions N/N_f of the life (initial, middle, final):
+the paper names the stages and shows them (Fig. 17a) without bounds (decision "three stages of the modulus
+degradation")."""
+
+
+def stage_slopes(measured_at: ArrayLike, modulus_ratio: ArrayLike, life: float, bounds=STAGES) -> dict:
+    """Slopes d(E_f/E_f,0)/d(N/N_f) of the initial, middle and final stage of a fatigue run: least-squares lines
+    through the points (``measured_at`` / ``life``, ``modulus_ratio``) with N/N_f in [0, b₁], [b₁, b₂] and [b₂, 1]
+    (``bounds`` = (b₁, b₂), :data:`STAGES`); NaN for a stage with fewer than two distinct points. ``initial_over_
+    middle`` says whether the degradation starts fast, as the paper's first stage does."""
+    n, ratio = (np.asarray(check_finite(name, v), float) for name, v in (("measured_at", measured_at),
+                                                                         ("modulus_ratio", modulus_ratio)))
+    if n.ndim != 1 or n.shape != ratio.shape:
+        raise ValueError(f"measured_at and modulus_ratio must be 1-D of one length, got {n.shape} and {ratio.shape}")
+    check_positive("life", life)
+    low, high = (float(b) for b in bounds)
+    if not 0.0 < low < high < 1.0:
+        raise ValueError(f"bounds must be two fractions 0 < b1 < b2 < 1, got {bounds!r}")
+    x = n / life
+    slopes = {}
+    for stage, (a, b) in {"initial": (0.0, low), "middle": (low, high), "final": (high, 1.0)}.items():
+        inside = (x >= a) & (x <= b)
+        slopes[stage] = float(np.polyfit(x[inside], ratio[inside], 1)[0]) if np.unique(x[inside]).size > 1 \
+            else float("nan")
+    slopes["initial_over_middle"] = slopes["initial"] / slopes["middle"] if slopes["middle"] else float("nan")
+    return slopes
 
 
 def _settling(cycles, settle: int) -> bool:
