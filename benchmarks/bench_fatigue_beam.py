@@ -22,7 +22,8 @@ grading, the cycle jump's accuracy against a cycle-by-cycle run, and the S–N c
    (:func:`~abrakit.experiments.bending.stage_slopes`); and each
    graded specimen calibrated to the paper's FS_max by similarity (:func:`~abrakit.experiments.bending.
    scaled_strengths`: strengths, softening displacements and loading speed × FS_paper / FS_max), its monotonic test
-   rerun to show the calibrated FS_max and the unchanged E_f.
+   rerun to show the calibrated FS_max and the unchanged E_f, and its S–N runs at the same levels of its own P_max
+   (after every uncalibrated run).
 
 Every case is a resumable sweep record (``fatigue_beam_resolution/``, ``fatigue_beam_jump/``, ``fatigue_beam_sn/``,
 ``fatigue_beam_rockers_*/``: a finished case is read back, not recomputed), and the fatigue runs checkpoint every
@@ -155,7 +156,7 @@ def _log_linear(runs: list[dict]) -> dict | None:
 
 def _runs_of(specimen: dict, runs: list[dict]) -> list[dict]:
     """The rocker study's runs of one specimen (named after its monotonic test)."""
-    return [r for r in runs if r["name"].startswith(specimen["name"] + "_")]
+    return [r for r in runs if r["name"].startswith(specimen["name"] + "_level")]
 
 
 def rocker_study(outdir: Path, checkpoints: Path, quick: bool) -> dict:
@@ -173,18 +174,22 @@ def rocker_study(outdir: Path, checkpoints: Path, quick: bool) -> dict:
          "strength_scale": PAPER["FS_max_kPa"] * 1e3 / m["FS_max"], **ROCKERS}
         for m in monotonic if m["grading"] == "fuller"], outdir / f"{NAME}_rockers_monotonic", backend="serial")]
     levels = (0.95, 0.77) if quick else PAPER["levels"]
-    cases = [{"grading": m["grading"], "radius": m["radius"], "seed": m["seed"], "P_max": m["P_max"], **ROCKERS,
-              "max_cycles": 1_000_000, "time_limit": 300 if quick else 3600, "level": level, "jump": 0.003,
-              "plasticity": "extrapolated", "settle": 1,
-              "name": f"{label(m['grading'], m['radius'], m['seed'])}_level{level:.2f}",
-              "checkpoint": str(checkpoints / f"{label(m['grading'], m['radius'], m['seed'])}_{level:.2f}.pkl")}
-             for level in levels for m in monotonic]
+    case = lambda m, level: {
+        "grading": m["grading"], "radius": m["radius"], "seed": m["seed"], "P_max": m["P_max"], **ROCKERS,
+        "max_cycles": 1_000_000, "time_limit": 300 if quick else 3600, "level": level, "jump": 0.003,
+        "plasticity": "extrapolated", "settle": 1, "name": f"{m['name']}_level{level:.2f}",
+        "checkpoint": str(checkpoints / f"{m['name']}_{level:.2f}.pkl"),
+        **({"strength_scale": m["strength_scale"]} if "strength_scale" in m else {})}
+    cases = [case(m, level) for level in levels for m in monotonic]
+    cases += [case(m, level) for level in levels for m in calibrated]   # after every uncalibrated run
     sn = [_measured({**r["params"], **r["result"]})
           for r in run_sweep(fatigue_case, cases, outdir / f"{NAME}_rockers_sn", backend="serial")]
     for run in sn:                          # the three stages of each run that reached its life
         run["stages"] = stage_slopes(run["measured_at"], run["modulus_ratio"], run["life"]) if run["life"] else None
-    fits = {m["name"]: _log_linear(_runs_of(m, sn)) for m in monotonic}
-    fits["graded, both seeds"] = _log_linear([r for r in sn if r["grading"] == "fuller"])
+    fits = {m["name"]: _log_linear(_runs_of(m, sn)) for m in monotonic + calibrated}
+    graded = [r for r in sn if r["grading"] == "fuller" and "strength_scale" not in r]
+    fits["graded, both seeds"] = _log_linear(graded)
+    fits["graded, both seeds, calibrated"] = _log_linear([r for r in sn if "strength_scale" in r])
     return {"monotonic": [{k: v for k, v in m.items() if k != "curve"} for m in monotonic], "sn": sn, "fits": fits,
             "calibrated": [{k: v for k, v in m.items() if k != "curve"} for m in calibrated]}
 
@@ -192,10 +197,11 @@ def rocker_study(outdir: Path, checkpoints: Path, quick: bool) -> dict:
 def plot_rockers(rockers: dict, path: Path) -> None:
     """S–N per specimen on the rockers, and E_f/E_f,0 against N/N_f of the runs that reached their life."""
     fig, ax = plt.subplots(1, 2, figsize=(11, 4))
-    for k, m in enumerate(rockers["monotonic"]):
+    for k, m in enumerate(rockers["monotonic"] + rockers["calibrated"]):
         failed = [r for r in _runs_of(m, rockers["sn"]) if r["life"]]
-        ax[0].semilogx([r["life"] for r in failed], [100 * r["level"] for r in failed], "os^"[k % 3], color=f"C{k}",
-                       label=f"{m['grading']} {m['radius'] * 1e3:.0f} mm, seed {m['seed']} "
+        calibrated = ", calibrated" if "strength_scale" in m else ""
+        ax[0].semilogx([r["life"] for r in failed], [100 * r["level"] for r in failed], "os^D"[k % 4], color=f"C{k}",
+                       label=f"{m['grading']} {m['radius'] * 1e3:.0f} mm, seed {m['seed']}{calibrated} "
                              f"(FS_max {m['FS_max'] / 1e3:.0f} kPa)")
         for r in failed:
             n = np.asarray(r["measured_at"], float)
@@ -272,7 +278,7 @@ def main(outdir: Path, quick: bool = False) -> dict:
         writer.write(study="rockers monotonic", grading=r["grading"], radius=r["radius"], seed=r["seed"], level=1.0,
                      jump=0.0, plasticity="", particles=r["particles"], FS_max=r["FS_max"], life=0, life_error=0.0,
                      simulated_cycles=0, seconds=r["seconds"], per_unit=r["seconds_per_cycle"])
-    for own in rockers["monotonic"]:
+    for own in rockers["monotonic"] + rockers["calibrated"]:
         for r in _runs_of(own, rockers["sn"]):
             writer.write(study="rockers S-N", grading=r["grading"], radius=r["radius"], seed=r["seed"],
                          level=r["level"], jump=r["jump"], plasticity=r["plasticity"], particles=own["particles"],
