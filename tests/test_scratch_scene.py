@@ -383,6 +383,7 @@ def test_a_killed_scratch_resumes_with_the_uninterrupted_increments_curves_and_g
     assert resumed.groove_loaded == full.groove_loaded and resumed.groove_unloaded == full.groove_unloaded
     assert (resumed.newton_iterations, resumed.cutbacks, resumed.increments) == \
         (full.newton_iterations, full.cutbacks, full.increments)
+    assert resumed.wall_time >= resumed.curves["wall_time"][-1]    # the run's time over both calls, not the last's
     csv = np.genfromtxt(tmp_path / "cut" / "forces.csv", delimiter=",", names=True)
     assert list(csv["step"]) == list(range(1, full.increments + 1))
     np.testing.assert_array_equal(csv["normal_force"], full.curves["normal_force"])

@@ -709,7 +709,7 @@ class ScratchResult:
     mean_tangential_force: float
     n_elements: int
     n_dofs: int
-    wall_time: float
+    wall_time: float                  # [s] over every call that computed it (a resumed run adds the earlier ones)
     increments: int
     newton_iterations: int
     cutbacks: int
@@ -865,7 +865,7 @@ def run_scratch(scene: ScratchScene = ScratchScene(), *, output=None, progress: 
     being recovered from when it stopped).
     """
     check_range("checkpoint_every", checkpoint_every, 0, None)
-    t_start = time.perf_counter()
+    t_start, earlier = time.perf_counter(), 0.0
     spec = scene.mesh_spec
     path = scene.path
     specimen = build_specimen(scene)
@@ -935,6 +935,7 @@ def run_scratch(scene: ScratchScene = ScratchScene(), *, output=None, progress: 
             iterations, cutbacks = saved["meta"]["iterations"], saved["meta"]["cutbacks"]
             continuation = saved["continuation"]
             recorder.restart(saved["meta"]["record"])
+            earlier = recorder.rows[-1]["wall_time"] if recorder.rows else 0.0     # the calls before this one
             contact.restore(saved["arrays"], saved["meta"]["contact"])
             if contact.forces is not None:
                 converged_force[0] = np.array(contact.forces.force, dtype=float)
@@ -994,7 +995,7 @@ def run_scratch(scene: ScratchScene = ScratchScene(), *, output=None, progress: 
         scene=scene, curves=curves, groove_loaded=groove_loaded, groove_unloaded=groove_unloaded,
         profile_loaded=profile_loaded, profile_unloaded=profile_unloaded, removed=removed,
         mean_normal_force=mean_fn, mean_tangential_force=mean_ft, n_elements=int(mesh.t.shape[1]),
-        n_dofs=int(basis.N), wall_time=time.perf_counter() - t_start, increments=len(recorder.rows),
+        n_dofs=int(basis.N), wall_time=earlier + time.perf_counter() - t_start, increments=len(recorder.rows),
         newton_iterations=iterations, cutbacks=cutbacks, budget=recorder.budget,
         linear_solver=getattr(solver.linear_solver, "name", "custom"), u=u, state=state, specimen=specimen,
         contact=contact, output=out, notes=notes)
