@@ -230,8 +230,8 @@ def _lattice(spec: BeamSpec):
 BEAM_KERNEL = "numba" if HAVE_NUMBA else "numpy"
 """The beam's particle–particle contacts and leap-frog update: compiled where numba is installed (the same
 equations, :mod:`abrakit.dem.kernels`). With the other compiled pieces (the bond update, the pair loads' sums, the
-rocker pads' contacts) a step of the 223-disk graded beam on rockers takes 0.35 ms instead of 1.52 ms on the NumPy
-paths, 0.75 ms with only the bond update compiled (``benchmarks/bench_fatigue_bond_kernel.py``). The two paths
+rocker pads' contacts) a step of the 223-disk graded beam on rockers takes 0.23 ms instead of 1.04 ms on the NumPy
+paths, about 0.75 ms with only the bond update compiled (``benchmarks/bench_fatigue_bond_kernel.py``). The two paths
 differ by round-off, which the local damping's sign(v) turns into differences of 10⁻⁸ m over a cycle (the kernels'
 tests compare single steps and pieces, bit for bit where the summation order allows)."""
 
