@@ -159,29 +159,56 @@ def _runs_of(specimen: dict, runs: list[dict]) -> list[dict]:
     return [r for r in runs if r["name"].startswith(specimen["name"] + "_level")]
 
 
+def rocker_specimens(outdir: Path, quick: bool) -> list[dict]:
+    """The rocker study's specimens (the Fuller-graded 6 mm packing, two seeds, and the 5 mm lattice), each with its
+    monotonic test on the rockers."""
+    specimens = [("lattice", 5e-3, 0)] if quick else [("fuller", 6e-3, 0), ("fuller", 6e-3, 1), ("lattice", 5e-3, 0)]
+    return [{**r["params"], **r["result"]} for r in run_sweep(
+        monotonic_case, [{"grading": g, "radius": radius, "seed": seed,
+                          "name": f"rockers_{g}{radius * 1e3:.1f}mm_seed{seed}", **ROCKERS}
+                         for g, radius, seed in specimens], outdir / f"{NAME}_rockers_monotonic", backend="serial")]
+
+
+def calibrated_specimen(specimen: dict, outdir: Path, tolerance: float = 0.01, max_steps: int = 4) -> dict:
+    """The similarity search for the paper's FS_max from a specimen's monotonic test: factor ← factor FS_paper /
+    FS_max(factor), each step one monotonic test with σ_t, c, ū and the loading speed scaled (decision "calibrating
+    the beam's strength by similarity"), until FS_max is within ``tolerance`` of the paper's. The graded packings'
+    settling forces do not scale, so the first step can miss by a few per cent."""
+    target = PAPER["FS_max_kPa"] * 1e3
+    record, factor = specimen, 1.0
+    for _ in range(max_steps):
+        if factor != 1.0 and abs(record["FS_max"] / target - 1.0) <= tolerance:
+            break
+        factor *= target / record["FS_max"]
+        run = run_sweep(monotonic_case, [
+            {"grading": specimen["grading"], "radius": specimen["radius"], "seed": specimen["seed"],
+             "name": f"{specimen['name']}_calibrated", "strength_scale": factor, **ROCKERS}],
+            outdir / f"{NAME}_rockers_monotonic", backend="serial")[0]
+        record = {**run["params"], **run["result"]}
+    return record
+
+
+def rocker_case(specimen: dict, level: float, checkpoints: Path, quick: bool) -> dict:
+    """The S–N case of a specimen at ``level`` × its own P_max: ΔD_jump = 0.003, the ratcheting extrapolated, one
+    settling cycle, at most an hour (five minutes in the quick run)."""
+    return {"grading": specimen["grading"], "radius": specimen["radius"], "seed": specimen["seed"],
+            "P_max": specimen["P_max"], **ROCKERS, "max_cycles": 1_000_000, "time_limit": 300 if quick else 3600,
+            "level": level, "jump": 0.003, "plasticity": "extrapolated", "settle": 1,
+            "name": f"{specimen['name']}_level{level:.2f}",
+            "checkpoint": str(checkpoints / f"{specimen['name']}_{level:.2f}.pkl"),
+            **({"strength_scale": specimen["strength_scale"]} if "strength_scale" in specimen else {})}
+
+
 def rocker_study(outdir: Path, checkpoints: Path, quick: bool) -> dict:
     """Issue 37: both tests on the rocker fixture, per specimen (the Fuller-graded 6 mm packing, two seeds, and the
     5 mm lattice): the monotonic test, then the S–N levels as fractions of that specimen's own P_max, ΔD_jump =
     0.003 with the ratcheting extrapolated and one settling cycle, each run at most an hour (20 minutes before the
     compiled beam step, which stopped four graded runs without a life)."""
-    specimens = [("lattice", 5e-3, 0)] if quick else [("fuller", 6e-3, 0), ("fuller", 6e-3, 1), ("lattice", 5e-3, 0)]
-    label = lambda g, radius, seed: f"rockers_{g}{radius * 1e3:.1f}mm_seed{seed}"
-    monotonic = [{**r["params"], **r["result"]} for r in run_sweep(
-        monotonic_case, [{"grading": g, "radius": radius, "seed": seed, "name": label(g, radius, seed), **ROCKERS}
-                         for g, radius, seed in specimens], outdir / f"{NAME}_rockers_monotonic", backend="serial")]
-    calibrated = [{**r["params"], **r["result"]} for r in run_sweep(monotonic_case, [
-        {"grading": m["grading"], "radius": m["radius"], "seed": m["seed"], "name": f"{m['name']}_calibrated",
-         "strength_scale": PAPER["FS_max_kPa"] * 1e3 / m["FS_max"], **ROCKERS}
-        for m in monotonic if m["grading"] == "fuller"], outdir / f"{NAME}_rockers_monotonic", backend="serial")]
+    monotonic = rocker_specimens(outdir, quick)
+    calibrated = [calibrated_specimen(m, outdir) for m in monotonic if m["grading"] == "fuller"]
     levels = (0.95, 0.77) if quick else PAPER["levels"]
-    case = lambda m, level: {
-        "grading": m["grading"], "radius": m["radius"], "seed": m["seed"], "P_max": m["P_max"], **ROCKERS,
-        "max_cycles": 1_000_000, "time_limit": 300 if quick else 3600, "level": level, "jump": 0.003,
-        "plasticity": "extrapolated", "settle": 1, "name": f"{m['name']}_level{level:.2f}",
-        "checkpoint": str(checkpoints / f"{m['name']}_{level:.2f}.pkl"),
-        **({"strength_scale": m["strength_scale"]} if "strength_scale" in m else {})}
-    cases = [case(m, level) for level in levels for m in monotonic]
-    cases += [case(m, level) for level in levels for m in calibrated]   # after every uncalibrated run
+    cases = [rocker_case(m, level, checkpoints, quick) for level in levels for m in monotonic]
+    cases += [rocker_case(m, level, checkpoints, quick) for level in levels for m in calibrated]  # after the others
     sn = [_measured({**r["params"], **r["result"]})
           for r in run_sweep(fatigue_case, cases, outdir / f"{NAME}_rockers_sn", backend="serial")]
     for run in sn:                          # the three stages of each run that reached its life

@@ -373,3 +373,20 @@ def test_the_stage_slopes_are_those_of_a_piecewise_linear_degradation():
         stage_slopes(x * life, x[:-1], life)
     with pytest.raises(ValueError, match="life"):
         stage_slopes(x * life, x, -1.0)
+
+
+def test_the_cached_sample_is_keyed_on_the_code_that_made_it(monkeypatch):
+    """A graded sample cached by older code is never served: the cache key holds a hash of the packing's and the
+    DEM's source (a fixed version number once served a 70.1 kPa beam where the code gives 88.5 kPa)."""
+    import abrakit.experiments.bending as fb
+
+    spec = BeamSpec(radius=6e-3, grading="fuller")
+    args = (spec, table_two(), fb.MODULUS, fb.STIFFNESS_RATIO, 0.7, 0.8)
+    fingerprint = fb.procedure_fingerprint()
+    assert len(fingerprint) == 16 and fb.procedure_fingerprint() == fingerprint
+    path = fb._sample_cache_path(*args)
+    assert fb._sample_cache_path(*args) == path
+    monkeypatch.setattr(fb, "procedure_fingerprint", lambda: "0" * 16)
+    assert fb._sample_cache_path(*args) != path
+    monkeypatch.undo()
+    assert fb._sample_cache_path(BeamSpec(radius=6e-3, grading="fuller", seed=1), *args[1:]) != path

@@ -24,19 +24,23 @@ Particles (``grading``):
 - "fuller": a poly-disperse packing after Fuller's aggregate grading between r̄/``radius_ratio`` and r̄
   (:mod:`abrakit.experiments.disk_packing`), settled in a box at 1 kPa and bonded where the gap is at most a tenth
   of the smallest radius; disks left without a bond are removed. The paper's sample is poly-disperse (radii 1–19 mm
-  after its aggregate grading, whose curve, Fig. 13, is lost in the extraction). The packing is cached like the
-  compression specimens (:func:`abrakit.experiments.specimen.cache_dir`).
+  after its aggregate grading, whose curve, Fig. 13, is lost in the extraction). The relaxed sample is cached in
+  the compression specimens' directory (:func:`abrakit.experiments.specimen.cache_dir`), keyed on its arguments
+  and on the code that made it (:func:`procedure_fingerprint`).
 
 In both, ``radius`` r̄ is the largest radius and sets the resolution.
 """
 
 from __future__ import annotations
 
+import functools
 import hashlib
+import inspect
 import json
 import time
 import warnings
 from dataclasses import asdict, dataclass
+from pathlib import Path
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -61,8 +65,9 @@ from abrakit.validation import (
 )
 
 __all__ = ["FAILURE_SAG", "QUASI_STATIC_TOLERANCE", "STAGES", "Beam", "BeamSpec", "beam_theory_deflection",
-           "cyclic_bending", "flexural", "four_point_beam", "measured_cycles", "monotonic_bending", "scaled_strengths",
-           "stage_slopes", "static_deflection", "table_two", "uniaxial_modulus"]
+           "cyclic_bending", "flexural", "four_point_beam", "measured_cycles", "monotonic_bending",
+           "procedure_fingerprint", "scaled_strengths", "stage_slopes", "static_deflection", "table_two",
+           "uniaxial_modulus"]
 
 MODULUS = 1.55e9        # E_c of Table 2 [Pa]
 STIFFNESS_RATIO = 2.4   # k_n / k_s of Table 2
@@ -248,16 +253,40 @@ def _fuller(spec: BeamSpec, modulus: float):
     return packing["xy"], packing["radius"], 0.1 * float(packing["radius"].min())
 
 
+@functools.cache
+def procedure_fingerprint() -> str:
+    """A hash of the source that makes a graded sample: the packing (:mod:`abrakit.experiments.disk_packing`), the
+    whole DEM (:mod:`abrakit.dem`: contacts, bonds, relaxation) and the two functions of this module that call them.
+    Part of the cached sample's key, so an edit of any of them never serves a sample of the older code. (A fixed
+    version number that was never raised served FS_max = 70.1 kPa for the 6 mm seed-0 beam of a sample cached by an
+    earlier packing, where the committed code gives 88.5 kPa; ``test_the_cached_sample_is_keyed_on_the_code_that_
+    made_it``.)"""
+    import abrakit.dem
+    import abrakit.experiments.disk_packing
+
+    files = sorted(Path(abrakit.dem.__file__).parent.glob("*.py")) + [Path(abrakit.experiments.disk_packing.__file__)]
+    digest = hashlib.sha1()
+    for text in [f.read_bytes() for f in files] + [inspect.getsource(f).encode() for f in (_fuller, _bonded_sample)]:
+        digest.update(text)
+    return digest.hexdigest()[:16]
+
+
+def _sample_cache_path(spec: BeamSpec, params, modulus, stiffness_ratio, local_damping, safety) -> Path:
+    """Where the relaxed graded sample of these arguments is cached: keyed on them and on
+    :func:`procedure_fingerprint`."""
+    key = json.dumps({"code": procedure_fingerprint(), "spec": asdict(spec), "params": asdict(params),
+                      "modulus": modulus, "stiffness_ratio": stiffness_ratio, "local_damping": local_damping,
+                      "safety": safety}, sort_keys=True)
+    return cache_dir() / f"beam_{hashlib.sha1(key.encode()).hexdigest()[:16]}.pkl"
+
+
 def _bonded_sample(spec: BeamSpec, params, modulus, stiffness_ratio, local_damping=0.7, safety=0.8) -> Simulation:
     """The particles of :class:`BeamSpec` as a planar simulation, every pair within the bonding gap bonded. A
     "fuller" sample is relaxed after bonding (its packing's contacts still press) and cached: genesis and
     relaxation take about a minute."""
     path = None
     if spec.grading == "fuller":
-        key = json.dumps({"v": 1, "spec": asdict(spec), "params": asdict(params), "modulus": modulus,
-                          "stiffness_ratio": stiffness_ratio, "local_damping": local_damping, "safety": safety},
-                         sort_keys=True)
-        path = cache_dir() / f"beam_{hashlib.sha1(key.encode()).hexdigest()[:16]}.pkl"
+        path = _sample_cache_path(spec, params, modulus, stiffness_ratio, local_damping, safety)
         cached = load_state(path)
         if cached is not None:
             return cached
