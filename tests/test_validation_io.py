@@ -255,3 +255,29 @@ def test_set_up_functions_refuse_nan_and_non_numbers_by_name(call, name):
     input; the kernels inside a time step or return map trust their callers (README)."""
     with pytest.raises((ValueError, TypeError), match=name):
         call()
+
+
+def test_the_source_fingerprint_follows_the_code_it_hashes():
+    """source_fingerprint hashes a package's files, a module's file, a function's source: equal code, equal hash;
+    other code, another hash; anything else is refused by name."""
+    import abrakit.dem
+    import abrakit.dem.state
+    from abrakit.experiments.specimen import SpecimenSpec, genesis_fingerprint
+    from abrakit.io import source_fingerprint
+
+    assert source_fingerprint(abrakit.dem) == source_fingerprint(abrakit.dem)
+    assert len({source_fingerprint(abrakit.dem), source_fingerprint(abrakit.dem.state),
+                source_fingerprint(source_fingerprint), source_fingerprint(SpecimenSpec)}) == 4
+    assert source_fingerprint(abrakit.dem.state, abrakit.dem) != source_fingerprint(abrakit.dem)
+    assert genesis_fingerprint() == genesis_fingerprint()
+    with pytest.raises(TypeError, match="sources must be modules"):
+        source_fingerprint("abrakit.dem")
+
+
+def test_a_specimen_key_changes_with_the_genesis_code(monkeypatch):
+    import abrakit.experiments.specimen as sp
+
+    spec = sp.SpecimenSpec(n_particles=60, seed=5)
+    key = spec.key()
+    monkeypatch.setattr(sp, "genesis_fingerprint", lambda: "0" * 16)
+    assert spec.key() != key

@@ -35,7 +35,6 @@ from __future__ import annotations
 
 import functools
 import hashlib
-import inspect
 import json
 import time
 import warnings
@@ -54,7 +53,7 @@ from abrakit.experiments.disk_packing import disk_packing, fuller_radii
 from abrakit.experiments.rollers import Rollers
 from abrakit.experiments.specimen import cache_dir
 from abrakit.fatigue.bond_law import BondParameters
-from abrakit.io import RunRecord, VtuSeries, load_state, save_state
+from abrakit.io import RunRecord, VtuSeries, load_state, save_state, source_fingerprint
 from abrakit.validation import (
     check_finite,
     check_number_fields,
@@ -264,11 +263,7 @@ def procedure_fingerprint() -> str:
     import abrakit.dem
     import abrakit.experiments.disk_packing
 
-    files = sorted(Path(abrakit.dem.__file__).parent.glob("*.py")) + [Path(abrakit.experiments.disk_packing.__file__)]
-    digest = hashlib.sha1()
-    for text in [f.read_bytes() for f in files] + [inspect.getsource(f).encode() for f in (_fuller, _bonded_sample)]:
-        digest.update(text)
-    return digest.hexdigest()[:16]
+    return source_fingerprint(abrakit.dem, abrakit.experiments.disk_packing, _fuller, _bonded_sample)
 
 
 def _sample_cache_path(spec: BeamSpec, params, modulus, stiffness_ratio, local_damping, safety) -> Path:

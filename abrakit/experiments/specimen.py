@@ -22,18 +22,20 @@ Particle stiffness follows PFC3D's convention k_n = 4 r E_c (so two equal sphere
 the macroscopic modulus does not depend on the particle size), k_s = k_n / (k_n/k_s). Units SI.
 
 A :class:`Specimen` (positions, radii, vessel) is written to ``<cache>/specimen_<key>.npz``; the key hashes every
-parameter of the :class:`SpecimenSpec` and :data:`GENESIS_VERSION`, so tests, benchmarks and the book reuse the
-same specimen and a change of the procedure never serves a stale one. The cache directory is ``$ABRAKIT_CACHE``
-or ``~/.cache/abrakit``.
+parameter of the :class:`SpecimenSpec`, :data:`GENESIS_VERSION` and the source of the procedure
+(:func:`genesis_fingerprint`), so tests, benchmarks and the book reuse the same specimen and a change of the
+procedure never serves a stale one. The cache directory is ``$ABRAKIT_CACHE`` or ``~/.cache/abrakit``.
 """
 
 from __future__ import annotations
 
 import dataclasses
+import functools
 import hashlib
 import io
 import json
 import os
+import sys
 import time
 import warnings
 from dataclasses import dataclass, field
@@ -53,7 +55,7 @@ from abrakit.dem import (
     porosity,
 )
 from abrakit.dem.measure import contact_counts, relax, unbalanced_force_ratio
-from abrakit.io import dumps, loads, write_atomically
+from abrakit.io import dumps, loads, source_fingerprint, write_atomically
 from abrakit.validation import (
     check_finite,
     check_number_fields,
@@ -70,6 +72,7 @@ __all__ = [
     "SpecimenSpec",
     "cache_dir",
     "genesis",
+    "genesis_fingerprint",
     "interior_porosity",
     "relax",
     "unbalanced_force_ratio",
@@ -203,8 +206,9 @@ class SpecimenSpec:
         return 0.5 * self.radius_min * (1.0 + self.size_ratio)
 
     def key(self) -> str:
-        """Cache key: a hash of all fields and :data:`GENESIS_VERSION`."""
-        text = json.dumps({"version": GENESIS_VERSION, **dataclasses.asdict(self)}, sort_keys=True)
+        """Cache key: a hash of all fields, :data:`GENESIS_VERSION` and :func:`genesis_fingerprint`."""
+        text = json.dumps({"version": GENESIS_VERSION, "code": genesis_fingerprint(), **dataclasses.asdict(self)},
+                          sort_keys=True)
         return hashlib.sha1(text.encode()).hexdigest()[:16]
 
     def material(self, **kwargs) -> Material:
@@ -219,6 +223,16 @@ def dyad_offsets(count: int) -> np.ndarray:
     the origin for ``count`` 0 or 1)."""
     k = max(count, 1)
     return np.column_stack([np.arange(k) - 0.5 * (k - 1), np.zeros(k), np.zeros(k)])
+
+
+@functools.cache
+def genesis_fingerprint() -> str:
+    """A hash of the source of the genesis procedure: this module and the whole DEM (:mod:`abrakit.dem`). Part of
+    :meth:`SpecimenSpec.key`, so an edit of either never serves a specimen of the older code; the version number
+    alone depends on being raised by hand (the graded beam's cache, keyed that way, once served a stale sample)."""
+    import abrakit.dem
+
+    return source_fingerprint(abrakit.dem, sys.modules[__name__])
 
 
 def cache_dir() -> Path:
