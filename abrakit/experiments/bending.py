@@ -257,8 +257,8 @@ def procedure_fingerprint() -> str:
     """A hash of the source that makes a graded sample: the packing (:mod:`abrakit.experiments.disk_packing`), the
     whole DEM (:mod:`abrakit.dem`: contacts, bonds, relaxation) and the two functions of this module that call them.
     Part of the cached sample's key, so an edit of any of them never serves a sample of the older code. (A fixed
-    version number that was never raised served FS_max = 70.1 kPa for the 6 mm seed-0 beam of a sample cached by an
-    earlier packing, where the committed code gives 88.5 kPa; ``test_the_cached_sample_is_keyed_on_the_code_that_
+    version number that was never raised served a cached 6 mm seed-0 sample with 415 bonds, FS_max = 70.1 kPa on
+    rockers, where the committed code makes 424 bonds and 88.5 kPa; ``test_the_cached_sample_is_keyed_on_the_code_that_
     made_it``.)"""
     import abrakit.dem
     import abrakit.experiments.disk_packing
