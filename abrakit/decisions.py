@@ -237,10 +237,11 @@ DECISIONS: tuple[Decision, ...] = (
              "a rigid disk touching one particle crushed the bonds under it at a tenth of the strength; a pad "
              "spreads the load as the paper's walls do, and a guide in y only is a frictionless roller",
              (BEND + "test_damage_starts_at_the_bottom_between_the_loading_rollers",), "four_point_bending", "choice"),
-    Decision("one fixture for both bending tests (issue 37, in progress)", "servo-controlled walls",
-             "fixture='rockers': rigid flat pads pivoting at the exact spans, one-sided, frictionless, the same for "
-             "the monotonic (displacement) and the cyclic (force) test; mid-span held in x by symmetry; cycles need "
-             "a seating load (load_min_ratio > 0); 'pads' stays the default until the benchmark is rerun",
+    Decision("one fixture for both bending tests", "servo-controlled walls",
+             "fixture='rockers', the default: rigid flat pads pivoting at the exact spans, one-sided, frictionless, "
+             "the same for the monotonic (displacement) and the cyclic (force) test; mid-span held in x by symmetry; "
+             "cycles need a seating load (load_min_ratio, by default SEATING = 0.1 on the rockers); 'pads' kept for "
+             "the studies stored with it, which ask for it by name",
              "the pads fixture measures two specimens (E_f 1.80 GPa monotonic, 1.74–1.78 cyclic) and its supports "
              "pull the beam down at its ends (160 N at P = 157 N); the rocker pads carry their resultants at x₀ "
              "within 0.02 r, never pull, and give the same E_f in both tests (0.1 %)",

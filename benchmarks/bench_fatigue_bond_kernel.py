@@ -57,7 +57,7 @@ COLUMNS = ("radius_mm", "disks", "bonds", "ms_per_step_numpy", "ms_per_step_comp
 def one_cycle(radius: float, compiled: bool) -> tuple[float, float, int, int]:
     """Seconds per cycle (best of two after a warm-up cycle) and the first cycle's peak deflection."""
     fatigue_bonds.COMPILED_UPDATE = compiled
-    beam = four_point_beam(BeamSpec(radius=radius), control="force")
+    beam = four_point_beam(BeamSpec(radius=radius), control="force", fixture="pads")
     run = lambda: cyclic_bending(beam, LOAD, steps_per_cycle=STEPS_PER_CYCLE, max_simulated=1,
                                  quasi_static_check=False)
     first = run()
@@ -77,7 +77,7 @@ PATHS = {"numpy": (False, False), "compiled trial": (True, False), "compiled tri
 def monotonic(radius: float, path: str) -> dict:
     """The monotonic test to 70 % of the peak on one update path: time, steps and the load curve."""
     fatigue_bonds.COMPILED_UPDATE, fatigue_bonds.COMPILED_RETURN = PATHS[path]
-    beam = four_point_beam(BeamSpec(radius=radius))
+    beam = four_point_beam(BeamSpec(radius=radius), fixture="pads")
     r = monotonic_bending(beam, record_every=200, drop=0.7)
     return {"radius_mm": radius * 1e3, "path": path, "seconds": r["seconds"], "steps": r["steps"],
             "ms_per_step": 1e3 * r["seconds"] / r["steps"], "FS_max": r["FS_max"], "load": r["load"]}

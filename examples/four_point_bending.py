@@ -19,7 +19,7 @@ from abrakit.io import CurveWriter
 def main(outdir="results/examples"):
     spec = fb.BeamSpec()                                                        # r = 2.5 mm, 435 disks
     material = fb.uniaxial_modulus(spec)
-    elastic = fb.monotonic_bending(fb.four_point_beam(spec), record_every=500, max_deflection=2e-6)
+    elastic = fb.monotonic_bending(fb.four_point_beam(spec, fixture="pads"), record_every=500, max_deflection=2e-6)
     P, delta = elastic["load"][-1], elastic["deflection"][-1]
     measured = fb.flexural(P, delta, spec)["modulus"]
     theory = {shear: fb.flexural(P, fb.beam_theory_deflection(P, material["E"], material["nu"], spec, shear=shear),

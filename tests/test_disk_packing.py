@@ -57,7 +57,7 @@ def test_graded_beam_is_bonded_nearly_stress_free_and_cached(tmp_path, monkeypat
     marked; the bending chapter builds the same beam in every book build)."""
     monkeypatch.setenv("ABRAKIT_CACHE", str(tmp_path))
     spec = BeamSpec(radius=6e-3, grading="fuller")
-    beam = four_point_beam(spec)
+    beam = four_point_beam(spec, fixture="pads")
     b, p = beam.sim.fatigue_bonds, beam.sim.particles
     assert np.all(np.bincount(np.concatenate([b.i, b.j]), minlength=len(p)) > 0)   # no loose disks
     assert 150 < len(p) < 300 and 2 * len(b) / len(p) > 3.0                      # coordination of the bonds
@@ -66,5 +66,5 @@ def test_graded_beam_is_bonded_nearly_stress_free_and_cached(tmp_path, monkeypat
     assert len(beam.supports) >= 2 and len(beam.loading) >= 2 and len(beam.mid_bottom) >= 1
     assert len(list(tmp_path.rglob("beam_*.pkl"))) == 1
     tic = time.perf_counter()
-    again = four_point_beam(spec)
+    again = four_point_beam(spec, fixture="pads")
     assert np.array_equal(again.sim.particles.x, p.x) and time.perf_counter() - tic < 0.5 * 60

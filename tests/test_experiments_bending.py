@@ -26,6 +26,11 @@ from abrakit.experiments.bending import (
 COARSE = BeamSpec(radius=5e-3)          # 5 rows of disks: quick, for the qualitative checks
 
 
+def on_pads(spec, *args, **kwargs):
+    """The beam on the "pads" fixture, on which these tests' numbers were measured (the default is the rockers)."""
+    return four_point_beam(spec, *args, fixture="pads", **kwargs)
+
+
 def test_flexural_measures_are_eqs_42_to_44_and_invert_beam_theory():
     """Sec. 5.2: 857.5 N is 1029 kPa by Eq. (42). Eq. (44) applied to the Euler–Bernoulli deflection of third-point
     loading returns the modulus it came from; Eq. (43) is the outer-fibre strain of that beam, FS/E."""
@@ -68,7 +73,7 @@ def test_elastic_beam_modulus_is_timoshenkos_with_the_uniaxial_modulus_of_the_sa
     spec = BeamSpec()
     material = uniaxial_modulus(spec)
     assert 0.0 < material["nu"] < 0.5
-    beam = four_point_beam(spec)
+    beam = on_pads(spec)
     run = monotonic_bending(beam, record_every=500, max_deflection=2e-6)
     P, delta = run["load"][-1], run["deflection"][-1]
     measured = flexural(P, delta, spec)["modulus"]
@@ -81,7 +86,7 @@ def test_elastic_beam_modulus_is_timoshenkos_with_the_uniaxial_modulus_of_the_sa
 def test_damage_starts_at_the_bottom_between_the_loading_rollers():
     """Sec. 5.2: cracks 'always initiate at the bottom of the beam in the area between the two loading rollers'.
     The first bonds to yield in the monotonic test lie in the middle third and the bottom quarter."""
-    beam = four_point_beam(COARSE)
+    beam = on_pads(COARSE)
     sim, spec = beam.sim, beam.spec
     beam.speed = 5e-4
     b = sim.fatigue_bonds
@@ -100,7 +105,7 @@ def test_damage_starts_at_the_bottom_between_the_loading_rollers():
 def test_cyclic_bending_degrades_the_modulus_and_reports_a_life():
     """A coarse beam at a high load with the cycle jump: E_f/E_f,0 falls, damaged bonds accumulate, and the run
     ends at E_f/E_f,0 = 0.5 with a fatigue life beyond the simulated cycles."""
-    beam = four_point_beam(COARSE, control="force")
+    beam = on_pads(COARSE, control="force")
     with pytest.warns(RuntimeWarning, match="not quasi-static.*steps_per_cycle"):     # 1000 steps: -18 %
         r = cyclic_bending(beam, 120.0, jump=0.01, steps_per_cycle=1000, max_cycles=20_000, time_limit=60)
     assert r["stopped"] == "life" and r["life"] == r["measured_at"][-1] > r["simulated_cycles"]
@@ -117,8 +122,10 @@ def test_rocker_rollers_make_one_specimen_for_both_tests_at_the_exact_spans_and_
     """Issue 37: with rigid rocker pads (one-sided, frictionless, pivoting at the spans) the monotonic test under
     displacement control and a quasi-static cycle under force control measure the same elastic E_f (within 1 %;
     measured 0.1 %), every pad's resultant passes through its roller position, and no pad pulls. The old "pads"
-    fixture holds its support particles both ways: it pulls the beam down at its ends."""
-    beam = four_point_beam(COARSE, fixture="rockers")
+    fixture holds its support particles both ways: it pulls the beam down at its ends. The rockers are the default,
+    and so is their seating load (load_min_ratio = SEATING = 0.1) in the cyclic test."""
+    beam = four_point_beam(COARSE)
+    assert beam.rollers is not None
     beam.speed = 2.5e-4
     beam.step(10_000)                                            # elastic: P ≈ 35 N, no bond beyond D₀
     P, delta = beam.load(), beam.deflection()
@@ -126,15 +133,14 @@ def test_rocker_rollers_make_one_specimen_for_both_tests_at_the_exact_spans_and_
     assert rollers.contact_total().min() > 0.2 * P / 2 and beam.pull == 0.0
     assert np.allclose(rollers.centre_of_pressure(), rollers.x0, atol=0.02 * COARSE.radius)
     assert beam.sim.fatigue_bonds.damage.max() == pytest.approx(0.01)
-    cyclic = cyclic_bending(four_point_beam(COARSE, fixture="rockers", control="force"), P, load_min_ratio=0.1,
-                            steps_per_cycle=8000, max_simulated=1)
+    cyclic = cyclic_bending(four_point_beam(COARSE, control="force"), P, steps_per_cycle=8000, max_simulated=1)
     assert cyclic["modulus"][0] == pytest.approx(flexural(P, delta, COARSE)["modulus"], rel=0.01)
-    pads = four_point_beam(COARSE)
+    pads = on_pads(COARSE)
     pads.speed = 2.5e-4
     pads.step(10_000)
     assert pads.pull > 0.1 * pads.load()
     with pytest.raises(ValueError, match="load_min_ratio"):
-        cyclic_bending(four_point_beam(COARSE, fixture="rockers", control="force"), P)
+        cyclic_bending(four_point_beam(COARSE, control="force"), P, load_min_ratio=0.0)
 
 
 @pytest.mark.skipif(not HAVE_NUMBA, reason="the compiled pad contacts need numba")
@@ -159,7 +165,7 @@ def test_the_cyclic_test_measures_its_dynamic_amplification():
     load (on a copy). At 51 % of the coarse beam's strength, 1000 steps per cycle are 18 % off and warned about,
     2000 steps within the 2 % tolerance (measured +0.5 %); the check leaves the run itself unchanged."""
     def first_cycle(steps, check=True):
-        return cyclic_bending(four_point_beam(COARSE, control="force"), 120.0, steps_per_cycle=steps,
+        return cyclic_bending(on_pads(COARSE, control="force"), 120.0, steps_per_cycle=steps,
                               max_simulated=1, quasi_static_check=check)
 
     with pytest.warns(RuntimeWarning, match="not quasi-static"):
@@ -180,7 +186,7 @@ def test_a_beam_that_collapses_when_held_at_the_peak_has_no_amplification():
     """At 77 % of the coarse beam's strength and 1000 steps per cycle the peak lags so far behind the load that the
     beam, held at the peak load, collapses: no static reference, NaN and a warning that says so."""
     with pytest.warns(RuntimeWarning, match="could not be measured.*collapses"):
-        collapsing = cyclic_bending(four_point_beam(COARSE, control="force"), 180.0, steps_per_cycle=1000,
+        collapsing = cyclic_bending(on_pads(COARSE, control="force"), 180.0, steps_per_cycle=1000,
                                     max_simulated=1)
     assert np.isnan(collapsing["amplification"])
 
@@ -188,7 +194,7 @@ def test_a_beam_that_collapses_when_held_at_the_peak_has_no_amplification():
 def test_the_static_deflection_is_that_of_the_rested_beam_and_leaves_it_as_it_was():
     """Stepping on under the held load until δ rests: a tighter rest criterion moves δ by less than 10⁻⁴ (the
     default criterion has converged), and the beam's state is put back."""
-    beam = four_point_beam(COARSE, control="force")
+    beam = on_pads(COARSE, control="force")
     x = beam.sim.particles.x.copy()
     static = static_deflection(beam, 60.0, rtol=1e-6, block=500)
     assert np.array_equal(beam.sim.particles.x, x) and beam.sim.time == 0.0
@@ -205,9 +211,9 @@ def test_the_static_deflection_is_that_of_the_rested_beam_and_leaves_it_as_it_wa
     with pytest.raises(TypeError, match="beam"):
         static_deflection("beam", 60.0)
     with pytest.raises(TypeError, match="quasi_static_check"):
-        cyclic_bending(four_point_beam(COARSE, control="force"), 100.0, quasi_static_check="yes")
+        cyclic_bending(on_pads(COARSE, control="force"), 100.0, quasi_static_check="yes")
     with pytest.raises(ValueError, match="control='force'"):
-        static_deflection(four_point_beam(COARSE), 60.0)
+        static_deflection(on_pads(COARSE), 60.0)
 
 
 def test_bad_beam_input_is_refused():
@@ -220,27 +226,27 @@ def test_bad_beam_input_is_refused():
     with pytest.raises(ValueError, match="control"):
         four_point_beam(COARSE, control="servo")
     with pytest.raises(ValueError, match="pad"):
-        four_point_beam(COARSE, pad=1e-3)
-    beam = four_point_beam(COARSE)
+        on_pads(COARSE, pad=1e-3)
+    beam = on_pads(COARSE)
     with pytest.raises(ValueError, match="control='force'"):
         cyclic_bending(beam, 100.0)
     with pytest.raises(ValueError, match="load_max"):
-        cyclic_bending(four_point_beam(COARSE, control="force"), -1.0)
+        cyclic_bending(on_pads(COARSE, control="force"), -1.0)
     with pytest.raises(ValueError, match="plasticity"):
-        cyclic_bending(four_point_beam(COARSE, control="force"), 100.0, plasticity="ratchet")
+        cyclic_bending(on_pads(COARSE, control="force"), 100.0, plasticity="ratchet")
     with pytest.raises(ValueError, match="settle"):
-        cyclic_bending(four_point_beam(COARSE, control="force"), 100.0, settle=-1)
+        cyclic_bending(on_pads(COARSE, control="force"), 100.0, settle=-1)
 
 
 def test_an_interrupted_cyclic_run_resumes_from_its_checkpoint_with_the_same_history(tmp_path):
     kwargs = {"jump": 0.01, "steps_per_cycle": 1000, "max_cycles": 20_000, "quasi_static_check": False}
-    full = cyclic_bending(four_point_beam(COARSE, control="force"), 120.0, **kwargs)
+    full = cyclic_bending(on_pads(COARSE, control="force"), 120.0, **kwargs)
     state, csv = tmp_path / "beam.state", tmp_path / "beam.csv"
     vtu = tmp_path / "bonds"
-    first = cyclic_bending(four_point_beam(COARSE, control="force"), 120.0, checkpoint=state, csv=csv,
+    first = cyclic_bending(on_pads(COARSE, control="force"), 120.0, checkpoint=state, csv=csv,
                            max_simulated=2, vtu=vtu, **kwargs)
     assert first["stopped"] == "max_simulated" and first["simulated_cycles"] == 2
-    resumed = cyclic_bending(four_point_beam(COARSE, control="force"), 120.0, checkpoint=state, csv=csv, vtu=vtu,
+    resumed = cyclic_bending(on_pads(COARSE, control="force"), 120.0, checkpoint=state, csv=csv, vtu=vtu,
                              **kwargs)
     assert resumed["stopped"] == full["stopped"] == "life"
     for key in ("cycles", "modulus", "damaged"):
@@ -255,7 +261,7 @@ def test_an_interrupted_cyclic_run_resumes_from_its_checkpoint_with_the_same_his
     last = meshio.read(sorted(vtu.glob("bonds_*.vtu"))[-1])
     damage = last.cell_data["damage"][0]
     assert len(damage) == len(last.cells_dict["line"]) and damage.max() > 0.02
-    beam = four_point_beam(COARSE, control="force")           # a finished run is read back, not continued
+    beam = on_pads(COARSE, control="force")           # a finished run is read back, not continued
     again = cyclic_bending(beam, 120.0, checkpoint=state, csv=csv, vtu=vtu, **kwargs)
     assert again["stopped"] == "life" and again["life"] == full["life"]
     assert first["seconds"] < again["seconds"] <= resumed["seconds"]   # the run's time over its calls, kept
@@ -321,7 +327,7 @@ def test_scaled_strengths_give_the_similar_beam_under_a_scaled_load():
     below pins the quasi-static strength within 10⁻³. Bad input is refused by name."""
     runs = []
     for factor in (1.0, 0.5):
-        beam = four_point_beam(COARSE, scaled_strengths(table_two(), factor), control="force")
+        beam = four_point_beam(COARSE, scaled_strengths(table_two(), factor), control="force", fixture="pads")
         x0 = beam.sim.particles.x.copy()
         beam.set_load(200.0 * factor)
         beam.step(600)

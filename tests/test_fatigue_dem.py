@@ -197,7 +197,7 @@ def test_the_compiled_finish_of_the_bond_update_is_the_numpy_one_to_the_last_bit
     sudden 200 N load where bonds yield and some e_s are zero."""
     from abrakit.experiments.bending import BeamSpec, four_point_beam
 
-    beam = four_point_beam(BeamSpec(radius=5e-3), control="force")
+    beam = four_point_beam(BeamSpec(radius=5e-3), control="force", fixture="pads")
     beam.set_load(200.0)
     beam.step(300)
     b, p = beam.sim.fatigue_bonds, beam.sim.particles
@@ -226,7 +226,7 @@ def test_the_compiled_bond_update_gives_the_numpy_update_through_yielding(monkey
     runs = []
     for compiled in (False, True):
         monkeypatch.setattr(fatigue_bonds, "COMPILED_UPDATE", compiled)   # update()'s default
-        beam = four_point_beam(BeamSpec(radius=5e-3), control="force")
+        beam = four_point_beam(BeamSpec(radius=5e-3), control="force", fixture="pads")
         beam.set_load(200.0)
         beam.step(600)
         runs.append((beam.sim.particles.x.copy(), beam.sim.fatigue_bonds))

@@ -3,11 +3,14 @@
 The beam is 200 × 50 mm in the plane and W = 50 mm thick (2D disks, :class:`BeamSpec`), on two supports at a 150 mm
 span, loaded by two rollers 50 mm apart: third-point loading. Every particle pair closer than a bonding gap is
 joined by the fatigue bond of :mod:`abrakit.fatigue` with Table 2's parameters (:func:`table_two`) and stiffnesses
-from the effective modulus (deformable method, k_n = E_c/(r_A + r_B), k_s = k_n/2.4). A roller acts on the beam
-particles within a pad of 10 mm under (or over) it: support particles are held in y and free in x (a frictionless
-roller), loading particles move down at a prescribed speed (monotonic test, displacement control) or share a
-prescribed haversine load (cyclic test). A rigid disk touching one particle, as first tried, crushed the bonds under
-it at a tenth of the beam's strength; the paper's rollers are walls touching several particles.
+from the effective modulus (deformable method, k_n = E_c/(r_A + r_B), k_s = k_n/2.4). The rollers are rigid rocker
+pads of 10 mm (at least four radii) pivoting at the exact spans, one-sided and frictionless
+(:mod:`abrakit.experiments.rollers`, the default ``fixture="rockers"``): the loading pads move down at a prescribed
+speed (monotonic test, displacement control) or carry a prescribed haversine load (cyclic test), on the same
+specimen. The earlier stand-in, ``fixture="pads"``, holds the support particles under a pad in y (which clamps the
+beam's ends) and drives the loading particles themselves; the studies stored with it keep it. A rigid disk touching
+one particle, as first tried, crushed the bonds under it at a tenth of the beam's strength; the paper's rollers are
+walls touching several particles.
 
 The flexural stress, strain and modulus follow from the load P and the mid-span deflection δ (Eqs. 42–44):
 
@@ -63,12 +66,13 @@ from abrakit.validation import (
     number_arguments,
 )
 
-__all__ = ["FAILURE_SAG", "QUASI_STATIC_TOLERANCE", "STAGES", "Beam", "BeamSpec", "beam_theory_deflection",
-           "cyclic_bending", "flexural", "four_point_beam", "measured_cycles", "monotonic_bending",
-           "procedure_fingerprint", "scaled_strengths", "stage_slopes", "static_deflection", "table_two",
-           "uniaxial_modulus"]
+__all__ = ["FAILURE_SAG", "QUASI_STATIC_TOLERANCE", "SEATING", "STAGES", "Beam", "BeamSpec",
+           "beam_theory_deflection", "cyclic_bending", "flexural", "four_point_beam", "measured_cycles",
+           "monotonic_bending", "procedure_fingerprint", "scaled_strengths", "stage_slopes", "static_deflection",
+           "table_two", "uniaxial_modulus"]
 
 MODULUS = 1.55e9        # E_c of Table 2 [Pa]
+SEATING = 0.1           # the rockers' default load_min_ratio: the seating load one-sided supports need
 STIFFNESS_RATIO = 2.4   # k_n / k_s of Table 2
 
 
@@ -308,14 +312,15 @@ def _bonded_sample(spec: BeamSpec, params, modulus, stiffness_ratio, local_dampi
 def four_point_beam(spec: BeamSpec | None = None, params: BondParameters | None = None, *,
                     control: str = "displacement", modulus: float = MODULUS, stiffness_ratio: float = STIFFNESS_RATIO,
                     pad: float | None = None, local_damping: float = 0.7, safety: float = 0.8,
-                    fixture: str = "pads") -> Beam:
+                    fixture: str = "rockers") -> Beam:
     """Build the beam and its bonds; each roller acts on the particles within ``pad``/2 of it [m] (default: 10 mm,
     at least four radii).
 
     ``control``: "displacement" (the loading rollers move at a prescribed speed) or "force" (they carry a
-    prescribed load, :meth:`Beam.set_load`). ``fixture``: "pads" (support particles held in y, loading particles
-    kinematic or sharing the load) or "rockers" (rigid rocker pads of length ``pad`` pivoting at the exact spans,
-    one-sided and frictionless, the same for both controls: :mod:`abrakit.experiments.rollers`)."""
+    prescribed load, :meth:`Beam.set_load`). ``fixture``: "rockers" (the paper's test and the default: rigid rocker
+    pads of length ``pad`` pivoting at the exact spans, one-sided and frictionless, the same for both controls:
+    :mod:`abrakit.experiments.rollers`) or "pads" (support particles held in y, which clamps the beam's ends, and
+    loading particles kinematic or sharing the load: the earlier stand-in, kept for the studies stored with it)."""
     spec = BeamSpec() if spec is None else spec
     params = table_two() if params is None else params
     check_option("control", control, ("displacement", "force"))
@@ -433,13 +438,15 @@ def _write_bonds(series: VtuSeries, cycles: int, sim: Simulation) -> None:
                             "plastic_displacement": [b.plastic.sum(axis=0)], "yielded": [b.yielded.astype(float)]})
 
 
-def cyclic_bending(beam: Beam, load_max: float, *, load_min_ratio: float = 0.0, steps_per_cycle: int = 4000,
+def cyclic_bending(beam: Beam, load_max: float, *, load_min_ratio: float | None = None,
+                   steps_per_cycle: int = 4000,
                    jump: float | None = None, plasticity: str = "frozen", settle: int = 0,
                    life_ratio: float = 0.5, max_cycles: int = 100_000,
                    reference_cycles: int = 50, csv=None, time_limit: float | None = None, checkpoint=None,
                    max_simulated: int | None = None, vtu=None, quasi_static_check: bool = True) -> dict:
     """Haversine cyclic load between ``load_min_ratio`` × and 1 × ``load_max`` [N] (Fig. 16), shared by the loading
-    particles.
+    particles. ``load_min_ratio`` defaults to :data:`SEATING` on the rockers (one-sided supports need a seating load)
+    and to 0 on the pads.
 
     Each simulated cycle runs ``steps_per_cycle`` steps; at its peak the fatigue update of every bond is applied
     (with the cycle jump ``jump`` if given, Eqs. 40, 41; ``plasticity`` as in
@@ -469,6 +476,8 @@ def cyclic_bending(beam: Beam, load_max: float, *, load_min_ratio: float = 0.0, 
     ``amplification`` = δ_peak/δ_static − 1 is returned and a :class:`RuntimeWarning` names ``steps_per_cycle``
     if it exceeds :data:`QUASI_STATIC_TOLERANCE` (NaN, with a warning, where the held beam collapses)."""
     check_positive("load_max", load_max)
+    if load_min_ratio is None:
+        load_min_ratio = 0.0 if beam.rollers is None else SEATING
     check_range("load_min_ratio", load_min_ratio, 0.0, 1.0, high_open=True)
     if jump is not None:
         check_positive("jump", jump)
