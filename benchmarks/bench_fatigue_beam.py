@@ -59,6 +59,7 @@ from abrakit.experiments.sweeps import run_sweep
 from abrakit.io import CurveWriter, write_json
 
 NAME = "fatigue_beam"
+CHECKPOINT = ("checkpoint",)    # where a run keeps its state: not part of its key (records move between clones)
 PAPER = {"FS_max_kPa": 1336.4, "levels": (0.95, 0.92, 0.84, 0.81, 0.77, 0.70), "jump": 0.003}
 
 
@@ -210,7 +211,7 @@ def rocker_study(outdir: Path, checkpoints: Path, quick: bool) -> dict:
     cases = [rocker_case(m, level, checkpoints, quick) for level in levels for m in monotonic]
     cases += [rocker_case(m, level, checkpoints, quick) for level in levels for m in calibrated]  # after the others
     sn = [_measured({**r["params"], **r["result"]})
-          for r in run_sweep(fatigue_case, cases, outdir / f"{NAME}_rockers_sn", backend="serial")]
+          for r in run_sweep(fatigue_case, cases, outdir / f"{NAME}_rockers_sn", backend="serial", paths=CHECKPOINT)]
     for run in sn:                          # the three stages of each run that reached its life
         run["stages"] = stage_slopes(run["measured_at"], run["modulus_ratio"], run["life"]) if run["life"] else None
     fits = {m["name"]: _log_linear(_runs_of(m, sn)) for m in monotonic + calibrated}
@@ -266,7 +267,7 @@ def main(outdir: Path, quick: bool = False) -> dict:
                         "checkpoint": str(checkpoints / f"jump_{name}.pkl"), **({"settle": 1} if settle else {}),
                         **({"max_simulated": 200} if quick and jump is None else {})}
                        for name, jump, plasticity, settle in variants],
-        outdir / f"{NAME}_jump", backend="serial")]
+        outdir / f"{NAME}_jump", backend="serial", paths=CHECKPOINT)]
     reference = jump_runs[-1]
     for run in jump_runs:
         run["life_error"] = _life_error(run, reference)
@@ -279,7 +280,8 @@ def main(outdir: Path, quick: bool = False) -> dict:
                      "name": f"extrapolated_level{level:.2f}",
                      "checkpoint": str(checkpoints / f"sn_extrapolated_{level:.2f}.pkl")} for level in levels]
     sn = [_measured({**r["params"], **r["result"]})
-          for r in run_sweep(fatigue_case, frozen + extrapolated, outdir / f"{NAME}_sn", backend="serial")]
+          for r in run_sweep(fatigue_case, frozen + extrapolated, outdir / f"{NAME}_sn", backend="serial",
+                             paths=CHECKPOINT)]
     lives = {plasticity: [s for s in sn if s.get("plasticity", "frozen") == plasticity and s["life"]]
              for plasticity in ("frozen", "extrapolated")}
     fits = {plasticity: fit for plasticity, failed in lives.items() if (fit := _log_linear(failed))}

@@ -206,3 +206,20 @@ def test_two_processes_running_one_sweep_leave_every_case_once_and_every_file_va
     assert set(computed) == set(map(float, range(12))) and len(computed) <= 24
     again = run_sweep(slow_case, sweep(tmp_path, 12), out, backend="serial")
     assert all(r["resumed"] for r in again) and len(calls(tmp_path)) == len(computed)
+
+
+def test_path_parameters_reach_the_case_but_not_its_key_so_records_move_between_clones(tmp_path):
+    """``paths`` names parameters that say where a case keeps its files: the records written with one log directory
+    are read back, not recomputed, when the same sweep names another (a clone elsewhere); every other parameter
+    still makes a case of its own."""
+    first, moved = tmp_path / "clone_a", tmp_path / "clone_b"
+    first.mkdir(), moved.mkdir()
+    out = tmp_path / "out"
+    written = run_sweep(polynomial_case, sweep(first, 3), out, backend="serial", paths=["log"])
+    assert len(calls(first)) == 3 and [r["key"] for r in written] == [case_key(p, ["log"]) for p in sweep(moved, 3)]
+    again = run_sweep(polynomial_case, sweep(moved, 4), out, backend="serial", paths=("log",))
+    assert calls(moved) == [3.0] and [r["resumed"] for r in again] == [True, True, True, False]
+    assert results(again[:3]) == results(written)
+    assert case_key({"x": 1, "log": "a"}, ["log"]) == case_key({"x": 1}) != case_key({"x": 1, "log": "a"})
+    with pytest.raises(TypeError, match="paths must be a list"):
+        run_sweep(polynomial_case, sweep(first, 1), out, backend="serial", paths="log")

@@ -17,7 +17,9 @@ or of the dict, and is the same in every process and on every machine; a ``"name
 front of the hash to make the files readable. Running the same sweep again, after an interruption or with more
 cases, reads the finished cases back and computes only the missing ones. Parameters are hashed as written:
 ``1`` and ``1.0`` are different cases. To invalidate old results after changing the case function, add a
-``"version"`` entry to the parameters (or use a fresh directory).
+``"version"`` entry to the parameters (or use a fresh directory). Parameters that only say where a case keeps its
+files (a checkpoint path) are named in ``run_sweep(..., paths=[...])``: they reach the case but not the key, so the
+stored records stay valid in another clone.
 
 Backends. ``"serial"`` runs in this process; ``"joblib"`` (the default) runs local worker processes
 (``n_jobs``, default: all cores); ``"dask"`` submits the cases to a ``dask.distributed`` scheduler:
@@ -68,14 +70,23 @@ def canonical_params(params) -> str:
         raise TypeError(f"params must hold only finite JSON values (numbers, strings, lists, dicts): {exc}") from exc
 
 
-def case_key(params) -> str:
-    """Stable file stem of a case: ``<name>-<hash10>`` with a ``"name"`` entry, else ``<hash16>`` (SHA-1 hex)."""
-    digest = hashlib.sha1(canonical_params(params).encode()).hexdigest()
+def case_key(params, paths: Iterable[str] = ()) -> str:
+    """Stable file stem of a case: ``<name>-<hash10>`` with a ``"name"`` entry, else ``<hash16>`` (SHA-1 hex). The
+    entries named in ``paths`` (where the case keeps its files) are left out of the hash."""
+    digest = hashlib.sha1(canonical_params(_without(params, paths)).encode()).hexdigest()
     name = params.get("name")
     if isinstance(name, str) and name:
         slug = re.sub(r"[^A-Za-z0-9_.=+-]+", "_", name).strip("_")[:60]
         return f"{slug}-{digest[:10]}"
     return digest[:16]
+
+
+def _without(params, paths: Iterable[str]):
+    """``params`` without the entries named in ``paths`` (``params`` itself if there are none)."""
+    paths = set(paths)
+    if not paths or not isinstance(params, Mapping):
+        return params
+    return {k: v for k, v in params.items() if k not in paths}
 
 
 def _case_name(case_fn) -> str:
@@ -108,15 +119,19 @@ def _execute(case_fn, key: str, params: dict, catch: bool) -> dict:
     return record
 
 
-def _finished(path: Path, canonical: str) -> dict | None:
-    """The stored record of a case if it exists, is readable and belongs to these parameters."""
+def _finished(path: Path, canonical: str, paths: Iterable[str] = ()) -> dict | None:
+    """The stored record of a case if it exists, is readable and belongs to these parameters (``canonical``, the
+    entries named in ``paths`` left out)."""
     if not path.exists():
         return None
     try:
         record = read_json(path)
     except (OSError, ValueError):
         return None
-    if canonical_params(record.get("params", {})) != canonical:
+    try:
+        if canonical_params(_without(record.get("params", {}), paths)) != canonical:
+            return None
+    except TypeError:
         return None
     return record
 
@@ -182,14 +197,16 @@ _MAPPERS = {"serial": _map_serial, "joblib": _map_joblib, "dask": _map_dask}
 
 def run_sweep(case_fn: Callable[[dict], Mapping], params_list: Iterable[Mapping], results_dir, *,
               backend: str | None = None, n_jobs: int | None = None, scheduler_address=None,
-              errors: str = "raise", progress: bool = False) -> list[dict]:
+              errors: str = "raise", progress: bool = False, paths: Iterable[str] = ()) -> list[dict]:
     """Run ``case_fn`` on every parameter dict, writing ``<results_dir>/<case_key>.json`` as each case finishes.
 
     Cases already in ``results_dir`` (same canonical parameters) are read back, not recomputed; duplicate
     parameter dicts run once. ``backend``: ``"serial"``, ``"joblib"`` (local processes, ``n_jobs`` of them,
     default all cores) or ``"dask"`` (``scheduler_address`` of a ``dask.distributed`` scheduler, or a
     ``distributed.Client``); ``None`` picks ``"dask"`` when an address is given, else ``"joblib"``.
-    ``errors``: ``"raise"`` or ``"record"`` (see the module doc).
+    ``errors``: ``"raise"`` or ``"record"`` (see the module doc). ``paths``: the names of parameters that say where a
+    case keeps its files (a checkpoint, say): passed to the case, but left out of its key and of the match with a
+    stored record, so that the records of a sweep stay valid when the results move to another clone or machine.
 
     Returns one record per entry of ``params_list``, in its order: a dict with ``key``, ``params``, ``result``
     (``None`` for a recorded failure, with the traceback under ``error``), ``case``, ``seconds``, ``finished``,
@@ -202,19 +219,23 @@ def run_sweep(case_fn: Callable[[dict], Mapping], params_list: Iterable[Mapping]
         raise ValueError(f"n_jobs must be a non-zero integer (negative counts back from all cores), got {n_jobs!r}")
     directory = Path(results_dir)
     directory.mkdir(parents=True, exist_ok=True)
+    if isinstance(paths, str):
+        raise TypeError(f"paths must be a list of parameter names, got the string {paths!r}")
+    paths = tuple(paths)
     cases = []
     for index, params in enumerate(params_list):
         try:
             canonical = canonical_params(params)
+            matched = canonical_params(_without(params, paths))
         except TypeError as exc:
             raise TypeError(f"params_list[{index}]: {exc}") from exc
-        cases.append((case_key(params), canonical))
+        cases.append((case_key(params, paths), canonical, matched))
     records: dict[str, dict] = {}
     pending: dict[str, dict] = {}
-    for key, canonical in cases:
+    for key, canonical, matched in cases:
         if key in records or key in pending:
             continue
-        stored = _finished(directory / f"{key}.json", canonical)
+        stored = _finished(directory / f"{key}.json", matched, paths)
         if stored is not None:
             records[key] = {**stored, "resumed": True}
         else:
@@ -235,4 +256,4 @@ def run_sweep(case_fn: Callable[[dict], Mapping], params_list: Iterable[Mapping]
             records[key] = {**_roundtrip(record), "resumed": False}
             bar.update()
         bar.close()
-    return [records[key] for key, _ in cases]
+    return [records[key] for key, _, _ in cases]
