@@ -27,6 +27,12 @@ __all__ = ["CurveWriter", "RunRecord", "VtuSeries", "dumps", "from_strict_json",
            "progress_bar", "read_curve", "read_json", "save_state", "source_fingerprint", "strict_json",
            "write_atomically", "write_json"]
 
+#: Non-finite floats in result files. JSON has no token for them (Python's ``NaN`` and ``Infinity`` are an extension
+#: other readers refuse), so they are written as these strings, the mapping of Protocol Buffers' canonical JSON,
+#: and :func:`read_json` turns them back into floats.
+NON_FINITE = {"NaN": float("nan"), "Infinity": float("inf"), "-Infinity": float("-inf")}
+
+
 def source_fingerprint(*sources) -> str:
     """A 16-digit hash of the source code of ``sources``: a package stands for every ``.py`` file in its directory, a
     module for its file, a function or class for its own source. Part of the key of a cached result (the graded
@@ -44,12 +50,6 @@ def source_fingerprint(*sources) -> str:
         else:
             raise TypeError(f"sources must be modules, functions or classes, got {type(source).__name__}")
     return digest.hexdigest()[:16]
-
-
-#: Non-finite floats in result files. JSON has no token for them (Python's ``NaN`` and ``Infinity`` are an extension
-#: other readers refuse), so they are written as these strings, the mapping of Protocol Buffers' canonical JSON,
-#: and :func:`read_json` turns them back into floats.
-NON_FINITE = {"NaN": float("nan"), "Infinity": float("inf"), "-Infinity": float("-inf")}
 
 
 def jsonable(obj):

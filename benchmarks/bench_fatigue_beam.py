@@ -45,6 +45,7 @@ from _common import command_line, save_figure
 
 from abrakit.dem.fatigue_specimen import history_deviation
 from abrakit.experiments.bending import (
+    SEATING,
     BeamSpec,
     cyclic_bending,
     flexural,
@@ -139,7 +140,7 @@ def _curve_error(run: dict, reference: dict) -> float:
                              key="modulus_ratio")
 
 
-ROCKERS = {"fixture": "rockers", "steps_per_cycle": 8000, "load_min_ratio": 0.1}
+ROCKERS = {"fixture": "rockers", "steps_per_cycle": 8000, "load_min_ratio": SEATING}
 """The rocker fixture's cyclic settings: 8000 steps per cycle (the coarse beam's dynamic amplification within 2 % up
 to 77 % of P_max) and a seating load of 10 % of the peak, which one-sided supports need."""
 

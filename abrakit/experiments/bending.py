@@ -47,6 +47,8 @@ from pathlib import Path
 import numpy as np
 from numpy.typing import ArrayLike
 
+import abrakit.dem
+import abrakit.experiments.disk_packing
 from abrakit.compiled import HAVE_NUMBA
 from abrakit.dem.fatigue_bonds import install_fatigue_bonds
 from abrakit.dem.measure import relax
@@ -264,9 +266,6 @@ def procedure_fingerprint() -> str:
     version number that was never raised served a cached 6 mm seed-0 sample with 415 bonds, FS_max = 70.1 kPa on
     rockers, where the committed code makes 424 bonds and 88.5 kPa; ``test_the_cached_sample_is_keyed_on_the_code_that_
     made_it``.)"""
-    import abrakit.dem
-    import abrakit.experiments.disk_packing
-
     return source_fingerprint(abrakit.dem, abrakit.experiments.disk_packing, _fuller, _bonded_sample)
 
 
@@ -438,8 +437,7 @@ def _write_bonds(series: VtuSeries, cycles: int, sim: Simulation) -> None:
                             "plastic_displacement": [b.plastic.sum(axis=0)], "yielded": [b.yielded.astype(float)]})
 
 
-def cyclic_bending(beam: Beam, load_max: float, *, load_min_ratio: float | None = None,
-                   steps_per_cycle: int = 4000,
+def cyclic_bending(beam: Beam, load_max: float, *, load_min_ratio: float | None = None, steps_per_cycle: int = 4000,
                    jump: float | None = None, plasticity: str = "frozen", settle: int = 0,
                    life_ratio: float = 0.5, max_cycles: int = 100_000,
                    reference_cycles: int = 50, csv=None, time_limit: float | None = None, checkpoint=None,

@@ -45,6 +45,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 from scipy.spatial import cKDTree
 
+import abrakit.dem
 from abrakit.dem import (
     ContactSet,
     Particles,
@@ -230,8 +231,6 @@ def genesis_fingerprint() -> str:
     """A hash of the source of the genesis procedure: this module and the whole DEM (:mod:`abrakit.dem`). Part of
     :meth:`SpecimenSpec.key`, so an edit of either never serves a specimen of the older code; the version number
     alone depends on being raised by hand (the graded beam's cache, keyed that way, once served a stale sample)."""
-    import abrakit.dem
-
     return source_fingerprint(abrakit.dem, sys.modules[__name__])
 
 

@@ -128,10 +128,7 @@ def _finished(path: Path, canonical: str, paths: Iterable[str] = ()) -> dict | N
         record = read_json(path)
     except (OSError, ValueError):
         return None
-    try:
-        if canonical_params(_without(record.get("params", {}), paths)) != canonical:
-            return None
-    except TypeError:
+    if canonical_params(_without(record.get("params", {}), paths)) != canonical:
         return None
     return record
 
@@ -217,11 +214,11 @@ def run_sweep(case_fn: Callable[[dict], Mapping], params_list: Iterable[Mapping]
     check_option("errors", errors, ("raise", "record"))
     if n_jobs is not None and (int(n_jobs) == 0 or int(n_jobs) != n_jobs):
         raise ValueError(f"n_jobs must be a non-zero integer (negative counts back from all cores), got {n_jobs!r}")
-    directory = Path(results_dir)
-    directory.mkdir(parents=True, exist_ok=True)
     if isinstance(paths, str):
         raise TypeError(f"paths must be a list of parameter names, got the string {paths!r}")
     paths = tuple(paths)
+    directory = Path(results_dir)
+    directory.mkdir(parents=True, exist_ok=True)
     cases = []
     for index, params in enumerate(params_list):
         try:
