@@ -169,6 +169,22 @@ DECISIONS: tuple[Decision, ...] = (
               "invariant",
               "tests/test_scratch_budget.py::test_removed_elements_close_the_budget_and_move_volume_from_the_"
               "shoulders_to_the_debris"), "scratch_volume", "choice"),
+    Decision("ductile failure of the scratch's steel", "no removal criterion (Ch. 8 describes none; Sec. 8.2.1 "
+             "credits the ERVE damage with the volume loss); no fracture data for St-52",
+             "D = Σ Δε̄ᵖ/ε_f(η) with Johnson & Cook's ε_f = D₁ + D₂ exp(D₃η) (Eng. Fract. Mech. 21 (1985) 31; "
+             "rate and temperature factors 1: quasi-static, room temperature) and their 4340 steel's D₁, D₂, D₃ = "
+             "0.05, 3.44, −2.12; no damage for η ≤ −1/3 (Bao & Wierzbicki, Eng. Fract. Mech. 72 (2005) 1049); "
+             "ε̄ᵖ = √(2/3) α_p and η of the Kirchhoff stress at the end of a converged increment, a post-processing "
+             "that leaves the plasticity's results unchanged",
+             "of Johnson and Cook's three metals only 4340 is a steel, and its D₁ > 0 keeps ε_f positive at every "
+             "triaxiality (Armco iron's fit, ferritic and nearer St-52's 355 MPa in yield, reaches zero at "
+             "η ≈ 1.9); its ε_f = 1.75 in tension (3.49 in shear) exceeds a structural steel's true fracture strain "
+             "of order 1, so the choice errs towards less removal; Armco iron and OFHC copper are kept for "
+             "sensitivity",
+             ("tests/test_ductile_failure.py::test_johnson_cook_fracture_strain_of_4340_steel_and_the_cut_off",
+              "tests/test_ductile_failure.py::test_finite_strain_hook_reaches_failure_at_the_fracture_strain",
+              "tests/test_ductile_failure.py::test_with_the_cut_off_no_damage_grows_at_triaxiality_minus_0_4_for_"
+              "any_strain"), "scratch_to_wear", "choice"),
     Decision("stick/slip chatter of the scratch's contact nodes", "silent (Abaqus' penalty contact)",
              "a node that switches stick <-> slip (or reverses its slip) twice in one increment slips along its "
              "last slip direction for the rest of it (|t_T| = μp); the held nodes' share of the Coulomb force is "

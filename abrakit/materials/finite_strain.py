@@ -37,7 +37,7 @@ from numpy.typing import ArrayLike
 
 from .. import tensors as T
 from ..compiled import HAVE_NUMBA, njit, prange
-from ..validation import check_finite, check_shape, number_arguments
+from ..validation import check_callable, check_finite, check_instance, check_shape, number_arguments
 from . import _finite_strain_kernels as _kernels
 from .elastic import LinearElastic
 from .model_two import ModelIIDamage
@@ -115,6 +115,13 @@ class DeferredTangentResponse:
 
     def __init__(self, stress: np.ndarray, state: dict, tangent: Callable[[], np.ndarray],
                  partial: Callable[[np.ndarray], np.ndarray] | None = None, yielding: np.ndarray | None = None):
+        if not (isinstance(stress, np.ndarray) and stress.dtype.kind == "f"):   # NaN: a diverged trial's, checked
+            raise TypeError(f"stress must be a float array, got {stress!r}")       # by the Newton solver
+        check_instance("state", state, dict)
+        check_callable("tangent", tangent)
+        check_callable("partial", partial, optional=True)
+        if yielding is not None and not (isinstance(yielding, (np.ndarray, np.bool_)) and yielding.dtype == bool):
+            raise TypeError(f"yielding must be a boolean array or None, got {yielding!r}")
         self.stress = stress
         self.state = state
         self._tangent = tangent
@@ -362,3 +369,34 @@ class LogStrainPlasticity:
 
     def dissipation(self, state) -> np.ndarray:
         return state["dissipation"] if self.plastic or self.damaged else np.zeros(state["J"].shape)
+
+
+def ductile_damage_update(criterion, damage: ArrayLike, old_state: dict, new_state: dict) -> np.ndarray:
+    """The ductile damage indicator D of every point after a converged increment of :class:`LogStrainPlasticity`,
+    D_{n+1} = D_n + Δε̄ᵖ/ε_f(η, ξ) (:mod:`abrakit.materials.ductile_failure`), as a new array.
+
+    A post-processing step: it reads the two states that :meth:`LogStrainPlasticity.update` returned at the start
+    (``old_state``) and at the end (``new_state``) of the increment and changes neither, nor the plasticity's
+    results. Δε̄ᵖ = √(2/3) (α_p,new − α_p,old), the equivalent logarithmic plastic strain of the radial return
+    (|Δε_p| accumulates in α_p); η and ξ come from the Kirchhoff stress τ = J σ at the end of the increment (the
+    state's ``cauchy`` and ``J``). ``criterion`` is a failure model with ``update(damage, plastic_strain_increment,
+    stress)``, e.g. :class:`~abrakit.materials.ductile_failure.JohnsonCookFailure`; ``damage`` (≥ 0) has the
+    points' shape (or broadcasts to it)."""
+    if not callable(getattr(criterion, "update", None)):
+        raise TypeError(f"criterion must be a failure model with update(damage, plastic_strain_increment, stress), "
+                        f"got {type(criterion).__name__}")
+    for name, state in (("old_state", old_state), ("new_state", new_state)):
+        if not isinstance(state, dict) or "alpha_p" not in state:
+            raise ValueError(f"{name} must be a state of a plastic LogStrainPlasticity (with 'alpha_p')")
+    if not {"cauchy", "J"} <= new_state.keys():
+        raise ValueError("new_state must hold the 'cauchy' stress and 'J' of LogStrainPlasticity.update")
+    alpha_old = check_finite("old_state['alpha_p']", old_state["alpha_p"])
+    alpha_new = check_finite("new_state['alpha_p']", new_state["alpha_p"])
+    growth = np.asarray(alpha_new, dtype=float) - np.asarray(alpha_old, dtype=float)
+    if np.any(growth < 0.0):
+        raise ValueError(f"new_state['alpha_p'] must not fall below old_state['alpha_p'] (were the states swapped?), "
+                         f"got a change of {growth.min():.3g}")
+    J = check_finite("new_state['J']", new_state["J"])
+    cauchy = check_shape("new_state['cauchy']", check_finite("new_state['cauchy']", new_state["cauchy"]), (..., 6))
+    kirchhoff = T.from_mandel(np.asarray(J)[..., None] * cauchy)
+    return criterion.update(damage, math.sqrt(2.0 / 3.0) * growth, kirchhoff)
