@@ -233,7 +233,8 @@ DECISIONS: tuple[Decision, ...] = (
               BOND + "test_papers_cycle_jump_counts_are_ratios_of_a_zero_to_peak_run"), "fatigue", "ambiguity"),
     Decision("cycle jump count, seed 002 Eq. (40)", "N_jump = ΔD_jump / ΔD_max (not an integer)",
              "rounded to the nearest integer, at least 1",
-             "rounding reproduces the paper's 797.4 % (311/39) to the digit and its 388.8 % to one simulated cycle; "
+             "rounding, with no jump passing the cycle that reaches the target damage, reproduces the paper's "
+             "797.4 % (311/39) and 388.8 % (311/80) to the digit; "
              "'reduce by' is read as the ratio full/simulated",
              (BOND + "test_papers_cycle_jump_counts_are_ratios_of_a_zero_to_peak_run",), "fatigue", "reconstruction"),
     Decision("particles of the bending beam, seed 002 Sec. 5.1", "poly-disperse, radii 1–19 mm after the "
@@ -288,6 +289,16 @@ DECISIONS: tuple[Decision, ...] = (
              "ends within the first tenth of the life and its last begins in the last tenth",
              (BEND + "test_the_stage_slopes_are_those_of_a_piecewise_linear_degradation",
               "benchmarks/bench_fatigue_beam.py"), "four_point_bending", "choice"),
+    Decision("failure damage of a bond", "D grows from D₀ to 1, where the yield and fatigue surfaces meet "
+             "(Sec. 3.1, Fig. 4); a bond at D → 1 is not otherwise defined",
+             "D_fail = 1 − 10⁻⁶ (bond_law.FAILURE_DAMAGE): a bond that reaches it is broken (the DEM removes it "
+             "and logs a crack); the return computes 1 − D as (1 − D₀) e^{−κ} to full precision and cannot fail "
+             "for a bond short of D_fail; one whose iteration ends past it breaks in that step",
+             "at D_fail the surfaces are 10⁻⁶ of their size (0.07 Pa for Table 2): the seed's final stage. Near "
+             "D = 1, 1 − D taken from the rounded D kept too few digits for the return's tolerance, and a beam "
+             "run stopped on a bond at D = 1 − 2·10⁻⁶",
+             (BOND + "test_a_bond_next_to_full_damage_in_near_pure_shear_returns_or_breaks",), "four_point_bending",
+             "choice"),
     Decision("ratcheting in the cycle jump", "a bond that yields in the sampled cycle gets no fatigue (E = 0 in "
              "Eq. 17); what it does during the jump is not addressed", "the paper's reading by default "
              "(plasticity='frozen': it stands still); plasticity='extrapolated' repeats the sampled cycle's plastic "

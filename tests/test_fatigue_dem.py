@@ -9,14 +9,9 @@ from abrakit.dem.fatigue_specimen import bonded_bar, cyclic_bar, history_deviati
 from abrakit.dem.kernels import HAVE_NUMBA
 from abrakit.dem.periodic import Periodic
 from abrakit.dem.state import Particles
-from abrakit.fatigue import (
-    BondParameters,
-    bond_stresses,
-    damage_after,
-    fatigue_displacements,
-    monotonic_test,
-    paris_increment,
-)
+from abrakit.fatigue import BondParameters, monotonic_test
+from abrakit.fatigue.bond_law import bond_stresses, damage_after
+from abrakit.fatigue.paris import fatigue_displacements, paris_increment
 
 P = BondParameters()
 R = 0.05                      # Ø 0.1 m particles: the bond width 2R is the paper's 0.1 m contact

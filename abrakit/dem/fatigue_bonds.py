@@ -12,8 +12,8 @@ from loading to unloading. It applies Paris' law to every bond that exceeded its
 did not yield during the cycle (the shift factor E of Eq. 17), with the stress ranges seen since the previous call,
 and optionally the cycle jump; the stress update of Eqs. (38, 39) follows from the new internal variables.
 
-A bond whose damage reaches ``1 − 10⁻⁶`` is removed and logged as a crack (the ordinary contact keeps acting in
-compression).
+A bond whose damage reaches the failure damage D_fail = 1 − 10⁻⁶ (:data:`~abrakit.fatigue.bond_law.FAILURE_DAMAGE`)
+is removed and logged as a crack (the ordinary contact keeps acting in compression).
 """
 
 from __future__ import annotations
@@ -27,13 +27,12 @@ from abrakit.dem.bonds import _bond_kinematics, candidate_bond_pairs
 from abrakit.dem.contact_laws import _cross, _dot, _turn_into_plane
 from abrakit.dem.kernels import HAVE_NUMBA, fatigue_bond_finish, fatigue_bond_trial
 from abrakit.fatigue._return_kernel import plastic_return_bonds
-from abrakit.fatigue.bond_law import MAX_HALVINGS, BondParameters, plastic_return
+from abrakit.fatigue.bond_law import FAILURE_DAMAGE, MAX_HALVINGS, BondParameters, plastic_return
 from abrakit.fatigue.paris import cycle_update
 from abrakit.validation import check_option, check_positive
 
-__all__ = ["COMPILED_RETURN", "COMPILED_UPDATE", "FatigueBonds", "install_fatigue_bonds"]
-
-BROKEN = 1.0 - 1e-6
+BROKEN = FAILURE_DAMAGE
+"""The damage at which a bond is removed (:data:`~abrakit.fatigue.bond_law.FAILURE_DAMAGE`)."""
 
 COMPILED_UPDATE = HAVE_NUMBA
 """Whether :meth:`FatigueBonds.update` takes the compiled elastic trial by default (where numba is installed); set
@@ -43,9 +42,8 @@ COMPILED_RETURN = HAVE_NUMBA
 """Whether the compiled update returns its yielding bonds with the compiled return map
 (:func:`abrakit.fatigue._return_kernel.plastic_return_bonds`, which also halves the steps where Newton fails;
 the NumPy :func:`~abrakit.fatigue.bond_law.plastic_return` otherwise, and for a bond that fails at the deepest
-split, where it raises). On the 98-disk beam's monotonic test to
-70 % of its peak it takes the step from 1.62 ms (NumPy update; 1.36 ms with the compiled trial alone) to 0.30 ms, with
-FS_max 5·10⁻⁵ apart (``benchmarks/bench_fatigue_bond_kernel.py``)."""
+split short of the failure damage, where it raises). ``benchmarks/bench_fatigue_bond_kernel.py`` measures the
+saving and the agreement of the two."""
 
 
 @dataclass
@@ -158,7 +156,7 @@ class FatigueBonds:
                 trial_n[a], size_s[a], self.damage[a], self.kn[a], self.ks[a], p.un, p.us, p.cohesion,
                 p.tensile_strength, p.tan_phi, p.tan_psi, p.alpha, 1e-12, 60, self.elastic_n[a], start_size[a],
                 MAX_HALVINGS)
-            f = a[~converged]                          # failed at the deepest split: the NumPy return raises
+            f = a[~converged]                  # failed at the deepest split short of D_fail: the NumPy return raises
         if f.size:
             du_n[f], du_s[f], damage[f], sigma_n[f], sigma_s[f] = plastic_return(
                 trial_n[f], size_s[f], self.damage[f], p, start=(self.elastic_n[f], start_size[f]),

@@ -23,8 +23,6 @@ from abrakit.fatigue.bond_law import BondParameters
 from abrakit.io import RunRecord
 from abrakit.validation import check_positive, check_range, number_arguments
 
-__all__ = ["bonded_bar", "cyclic_bar", "history_deviation"]
-
 
 @number_arguments
 def bonded_bar(params: BondParameters | None = None, *, columns: int = 5, rows: int = 2, radius: float = 0.05,

@@ -2,17 +2,15 @@
 
 :func:`~abrakit.fatigue.bond_law.plastic_return` solves the return's three equations (flow rule Eq. 19, 20 and
 F = 0 with the damage of Eq. 21 at the end of the step) by Newton's method vectorised over the bonds. In a DEM run
-only a handful of bonds yield in a step, and the NumPy iterations on arrays of a few entries were all call
-overhead: on the 98-disk four-point beam the return took 28 of a monotonic test's 50 s. :func:`plastic_return_bonds`
-runs the same algorithm per bond in one numba loop: the same scaled unknowns y = (Δu_nᵖ/ū_n, Δu_sᵖ/ū_s, 2Δλc/ū_s),
-the same first guess (one linearised return at the trial stress), the same forward-difference Jacobian, the same
-backtracking line search and the same tolerance. It differs only where the vectorised version cannot be per-bond:
-there every bond iterates until the slowest has converged, here each bond stops when its own residual is below the
-tolerance, so the results agree to the tolerance, not bit for bit
-(``tests/test_fatigue_bond.py::test_the_compiled_return_equals_the_numpy_return_to_its_tolerance``). A bond
-whose Newton iteration fails splits its step in halves as the NumPy version does (``start``, ``max_halvings``;
-a beam at 95 % of its strength spent 11 minutes a cycle in the NumPy splits of a few nearly broken bonds); one that
-fails at the deepest split is flagged for the NumPy version, which raises.
+only a handful of bonds yield in a step, and NumPy iterations on arrays of a few entries are mostly call overhead.
+:func:`plastic_return_bonds` runs the same algorithm per bond in one numba loop: the same scaled unknowns
+y = (Δu_nᵖ/ū_n, Δu_sᵖ/ū_s, 2Δλc/ū_s), the same first guess (one linearised return at the trial stress), the same
+forward-difference Jacobian, the same backtracking line search, the same tolerance, the same intact fraction
+1 − D = (1 − D₀) e^{−κ} taken to full precision as D → 1, and the same failure damage. It differs only where the
+vectorised version cannot be per-bond: there every bond iterates until the slowest has converged, here each bond
+stops when its own residual is below the tolerance, so the results agree to the tolerance, not bit for bit. A bond
+whose Newton iteration fails splits its step in halves as the NumPy version does (``start``, ``max_halvings``);
+one that fails at the deepest split short of the failure damage is flagged for the NumPy version, which raises.
 """
 
 from __future__ import annotations
@@ -22,8 +20,7 @@ import math
 import numpy as np
 
 from abrakit.compiled import njit
-
-__all__ = ["elastic_stresses", "plastic_return_bonds", "surface_size", "yield_function"]
+from abrakit.fatigue.bond_law import FAILURE_DAMAGE
 
 
 @njit(cache=True, inline="always")
@@ -52,8 +49,9 @@ def surface_size(sn, intact, c, tan_phi):  # pragma: no cover - compiled where n
 @njit(cache=True, inline="always")
 def _residual(a, b, lam, tn, ts, d0, kn, ks, scale, un, us, c, tan_phi, tan_psi, alpha2, q0_unit):  # pragma: no cover
     """The residual of ``bond_law._return_residual`` for one bond, and the damage and stresses at y."""
-    d = d0 - (1.0 - d0) * math.expm1(-abs(a * un) / un - abs(b * us) / us)
-    intact = 1.0 - d
+    kappa = abs(a) + abs(b)
+    d = d0 - (1.0 - d0) * math.expm1(-kappa)
+    intact = (1.0 - d0) * math.exp(-kappa)                       # 1 − D to full precision as D → 1
     sn, ss = elastic_stresses(tn - a * un, ts - b * us, intact, kn, ks)
     g = lam * us / c
     r0 = a - g * (tan_psi * (c * intact - sn * tan_psi)) / un
@@ -89,6 +87,8 @@ def _newton_one(tn, ts, d0, kn, ks, un, us, c, tan_phi, tan_psi, alpha2, q0_unit
     """One bond's return from the elastic trial (tn, ts) at damage d0 (``bond_law.plastic_return`` without the
     split): zero increments where the trial lies inside the surface (F ≤ tol · scale², the NumPy return's test),
     else Newton's method from the linearised first guess. Returns ``(converged, du_n, du_s, damage, σ_n, σ_s)``."""
+    if d0 >= FAILURE_DAMAGE:                   # a broken bond carries nothing
+        return True, 0.0, 0.0, d0, 0.0, 0.0
     intact = 1.0 - d0
     sn, ss = elastic_stresses(tn, ts, intact, kn, ks)
     scale = surface_size(sn, intact, c, tan_phi)
@@ -146,8 +146,10 @@ def plastic_return_bonds(trial_n, trial_s, damage, kn, ks, un, us, c, tensile_st
     as the NumPy return does: the path from the start to the trial is cut into intervals, depth first, each
     returned from the state the intervals before it left (the plastic displacements taken off its end point), and
     an interval that fails is halved, at most ``max_halvings`` times. Returns ``(du_n, du_s, damage, sigma_n,
-    sigma_s, converged)``; a bond with ``converged`` False failed at the deepest split (the NumPy return raises
-    there)."""
+    sigma_s, converged)``; a bond with ``converged`` False failed at the deepest split short of the failure damage
+    (the NumPy return raises there). Failure as in the NumPy return: a bond at :data:`~abrakit.fatigue.bond_law.
+    FAILURE_DAMAGE` carries nothing, one that reaches it in a part of its path ends there, and one whose iteration
+    fails at the deepest split with its damage past it is broken with zero stresses."""
     B = trial_n.shape[0]
     du_n, du_s, d_out = np.zeros(B), np.zeros(B), damage.copy()
     sigma_n, sigma_s = np.zeros(B), np.zeros(B)
@@ -166,9 +168,10 @@ def plastic_return_bonds(trial_n, trial_s, damage, kn, ks, un, us, c, tensile_st
                                                     c, tan_phi, tan_psi, alpha2, q0_unit, tol, max_iter)
             if ok or depth == max_halvings:
                 plastic_n, plastic_s, d = plastic_n + dn, plastic_s + ds, d_new
-                sigma_n[k], sigma_s[k] = sn, ss
-                if not ok or top == 0:
-                    converged[k] = ok
+                broken = d_new >= FAILURE_DAMAGE      # the bond breaks here: the rest of its path is moot
+                sigma_n[k], sigma_s[k] = (0.0, 0.0) if broken and not ok else (sn, ss)
+                if broken or not ok or top == 0:
+                    converged[k] = ok or broken
                     break
                 top -= 1
                 a, b, depth = pending_a[top], pending_b[top], pending_depth[top]

@@ -41,9 +41,6 @@ from numpy.typing import ArrayLike
 
 from abrakit.validation import check_finite, check_number_fields, check_positive, check_range, number_arguments
 
-__all__ = ["MAX_HALVINGS", "BondParameters", "bond_stresses", "criterion", "damage_after", "flow_direction",
-           "plastic_return"]
-
 
 @dataclass(frozen=True)
 class BondParameters:
@@ -106,19 +103,34 @@ class BondParameters:
         return BondParameters(**{**asdict(self), **changes})
 
 
-def _criterion(sigma_n: ArrayLike, sigma_s: ArrayLike, damage: ArrayLike, p: BondParameters, level: ArrayLike = 1.0):
-    """The kernel of :func:`criterion`, unchecked (the return map's Newton iterations call it)."""
-    intact = 1.0 - np.asarray(damage, float)
+def _yield(sigma_n, sigma_s, intact, p: BondParameters, level=1.0):
+    """F of Eq. (18) (``level`` = 1) or F_f of Eq. (23) at the intact fraction ``intact`` = 1 − D, unchecked."""
     q = level * p.cohesion * intact - np.asarray(sigma_n, float) * p.tan_phi
     q0 = level * (p.cohesion - p.tensile_strength * p.tan_phi) * intact
     return p.alpha**2 * np.asarray(sigma_s, float) ** 2 - q * np.abs(q) + q0 * q0
 
 
+def _flow(sigma_n, sigma_s, intact, p: BondParameters, level=1.0):
+    """The flow direction of Eq. (19, 20) at the intact fraction ``intact`` = 1 − D, unchecked."""
+    return (p.tan_psi * (level * p.cohesion * intact - np.asarray(sigma_n) * p.tan_psi), np.asarray(sigma_s, float))
+
+
+def _stresses(elastic_n, elastic_s, intact, p: BondParameters, kn=None, ks=None):
+    """(σ_n, σ_s) of Eq. (15, 16) at the intact fraction ``intact`` = 1 − D, unchecked."""
+    kn, ks = (p.kn if kn is None else kn), (p.ks if ks is None else ks)
+    elastic_n = np.asarray(elastic_n, float)
+    return kn * np.where(elastic_n >= 0.0, intact, 1.0) * elastic_n, ks * intact * np.asarray(elastic_s, float)
+
+
+def _criterion(sigma_n: ArrayLike, sigma_s: ArrayLike, damage: ArrayLike, p: BondParameters, level: ArrayLike = 1.0):
+    """The kernel of :func:`criterion`, unchecked (the return map's Newton iterations call it)."""
+    return _yield(sigma_n, sigma_s, 1.0 - np.asarray(damage, float), p, level)
+
+
 def _flow_direction(sigma_n: ArrayLike, sigma_s: ArrayLike, damage: ArrayLike, p: BondParameters,
                     level: ArrayLike = 1.0):
     """The kernel of :func:`flow_direction`, unchecked (the return map's Newton iterations call it)."""
-    return (p.tan_psi * (level * p.cohesion * (1.0 - np.asarray(damage, float)) - np.asarray(sigma_n) * p.tan_psi),
-            np.asarray(sigma_s, float))
+    return _flow(sigma_n, sigma_s, 1.0 - np.asarray(damage, float), p, level)
 
 
 def _damage_after(damage: ArrayLike, du_n: ArrayLike, du_s: ArrayLike, p: BondParameters):
@@ -130,11 +142,7 @@ def _damage_after(damage: ArrayLike, du_n: ArrayLike, du_s: ArrayLike, p: BondPa
 def _bond_stresses(elastic_n: ArrayLike, elastic_s: ArrayLike, damage: ArrayLike, p: BondParameters,
                    kn: ArrayLike | None = None, ks: ArrayLike | None = None):
     """The kernel of :func:`bond_stresses`, unchecked (the return map's Newton iterations call it)."""
-    kn, ks = (p.kn if kn is None else kn), (p.ks if ks is None else ks)
-    elastic_n = np.asarray(elastic_n, float)
-    intact = 1.0 - np.asarray(damage, float)
-    sigma_n = kn * np.where(elastic_n >= 0.0, intact, 1.0) * elastic_n
-    return sigma_n, ks * intact * np.asarray(elastic_s, float)
+    return _stresses(elastic_n, elastic_s, 1.0 - np.asarray(damage, float), p, kn, ks)
 
 
 # The public functions check their numbers (NaN and None refused by name); the return map's Newton iterations call
@@ -173,18 +181,22 @@ def bond_stresses(elastic_n: ArrayLike, elastic_s: ArrayLike, damage: ArrayLike,
 
 def _return_residual(y, trial_n, trial_s, damage, p, normal_stress, kn, ks, scale):
     """Residual of the plastic return in scaled unknowns y = (Δu_nᵖ/ū_n, Δu_sᵖ/ū_s, 2Δλ c/ū_s), shape (3, B);
-    F is scaled by ``scale``² (:func:`_yield_scale`)."""
+    F is scaled by ``scale``² (:func:`_yield_scale`). The stresses, the flow and F take the intact fraction
+    1 − D = (1 − D₀) exp(−κ) itself, not 1 minus the rounded damage: near D = 1 that difference would keep only
+    the last digits of D (at 1 − D = 2·10⁻⁶, ten of sixteen), below what the tolerance and the difference
+    Jacobian resolve."""
     a, b, lam = y
-    d = _damage_after(damage, a * p.un, b * p.us, p)
+    kappa = np.abs(a) + np.abs(b)
+    d = damage - (1.0 - damage) * np.expm1(-kappa)                # Eq. (21, 22), :func:`damage_after`
+    intact = (1.0 - damage) * np.exp(-kappa)                      # 1 − D to full precision as D → 1
     if normal_stress is None:
-        sigma_n, sigma_s = _bond_stresses(trial_n - a * p.un, trial_s - b * p.us, d, p, kn, ks)
+        sigma_n, sigma_s = _stresses(trial_n - a * p.un, trial_s - b * p.us, intact, p, kn, ks)
     else:
         sigma_n = normal_stress
-        sigma_s = ks * (1.0 - d) * (trial_s - b * p.us)
+        sigma_s = ks * intact * (trial_s - b * p.us)
     g = lam * p.us / p.cohesion                                   # 2Δλ [m/Pa]
-    flow_n, flow_s = _flow_direction(sigma_n, sigma_s, d, p)
-    r = np.array([a - g * flow_n / p.un, b - g * flow_s / p.us,
-                  _criterion(sigma_n, sigma_s, d, p) / scale**2])
+    flow_n, flow_s = _flow(sigma_n, sigma_s, intact, p)
+    r = np.array([a - g * flow_n / p.un, b - g * flow_s / p.us, _yield(sigma_n, sigma_s, intact, p) / scale**2])
     return r, d, sigma_n, sigma_s
 
 
@@ -233,6 +245,11 @@ def _newton(y, args, tol, max_iter):
     return y, np.max(np.abs(r), axis=0) < tol
 
 
+FAILURE_DAMAGE = 1.0 - 1e-6
+"""The damage D_fail at which a bond is broken: its yield and fatigue surfaces, which shrink as 1 − D and meet at
+D = 1 (seed 002, Sec. 3.1, Fig. 4), have shrunk to 10⁻⁶ of their size (σ_t and c of Table 2 to 0.07 Pa); the DEM
+removes the bond and logs a crack (decision "failure damage of a bond")."""
+
 MAX_HALVINGS = 12
 """How often :func:`plastic_return` (and the compiled return of the DEM's bonds) may halve a bond's step whose Newton
 iteration fails: a step split into up to 4096 parts."""
@@ -254,8 +271,13 @@ def plastic_return(trial_n: ArrayLike, trial_s: ArrayLike, damage: ArrayLike, p:
 
     Returns ``(du_n_p, du_s_p, damage, sigma_n, sigma_s)``; bonds inside the surface return zero increments. The
     three equations (flow rule Eq. 19, 20 and F = 0 with the damage of Eq. 21 at the *end* of the step, fully
-    implicit) are solved by Newton's method; a bond that cannot be returned raises ``RuntimeError`` rather than
-    returning an inadmissible state.
+    implicit) are solved by Newton's method.
+
+    Failure: a bond whose damage reaches :data:`FAILURE_DAMAGE` is broken. One broken at the start carries no
+    stress and is returned unchanged; one that reaches it in a part of a split step ends there (the rest of the
+    step's path does not matter to a broken bond); one whose iteration fails at the deepest split with its damage
+    past it is broken in this step, with zero stresses. A bond short of the failure damage that cannot be returned
+    raises ``RuntimeError`` rather than returning an inadmissible state.
     """
     max_halvings = MAX_HALVINGS if max_halvings is None else max_halvings
     trial_n, trial_s, damage = np.broadcast_arrays(*(np.atleast_1d(check_finite(name, v)) for name, v in
@@ -268,8 +290,10 @@ def plastic_return(trial_n: ArrayLike, trial_s: ArrayLike, damage: ArrayLike, p:
     else:
         sigma_n, sigma_s = _bond_stresses(trial_n, trial_s, damage, p, kn, ks)
     du_n, du_s, d = np.zeros_like(trial_s), np.zeros_like(trial_s), damage.copy()
+    broken = damage >= FAILURE_DAMAGE                 # a broken bond carries nothing
+    sigma_n, sigma_s = np.where(broken, 0.0, sigma_n), np.where(broken, 0.0, sigma_s)
     scale = _yield_scale(sigma_n, damage, p)          # the tolerance is relative to the surface's size
-    active = np.flatnonzero(_criterion(sigma_n, sigma_s, damage, p) > tol * scale**2)
+    active = np.flatnonzero(~broken & (_criterion(sigma_n, sigma_s, damage, p) > tol * scale**2))
     if not active.size:
         return du_n, du_s, d, sigma_n, sigma_s
     tn, ts, d0 = trial_n[active], trial_s[active], damage[active]
@@ -287,18 +311,28 @@ def plastic_return(trial_n: ArrayLike, trial_s: ArrayLike, damage: ArrayLike, p:
     du_n[active], du_s[active], d[active] = y[0] * p.un, y[1] * p.us, d_act
     sigma_n[active], sigma_s[active] = sn, ss
     failed = active[~converged]
-    if failed.size:
-        if start is None or max_halvings == 0:
+    if failed.size and (start is None or max_halvings == 0):
+        broke = failed[d[failed] >= FAILURE_DAMAGE]          # its surface has vanished: the bond breaks here
+        sigma_n[broke], sigma_s[broke] = 0.0, 0.0
+        failed = failed[d[failed] < FAILURE_DAMAGE]
+        if failed.size:
             raise RuntimeError(f"plastic return did not converge for {failed.size} bond(s) in {max_iter} iterations "
                                f"(trial σ = ({trial_n[failed[0]]:.3e}, {trial_s[failed[0]]:.3e}) m elastic "
                                f"displacement at D = {damage[failed[0]]:.6f}); take smaller steps")
+    elif failed.size:
         start_n, start_s = (np.broadcast_to(np.asarray(v, float), trial_s.shape)[failed] for v in start)
-        fixed = None if normal_stress is None else normal_stress[failed]
         mid_n, mid_s = 0.5 * (start_n + trial_n[failed]), 0.5 * (start_s + trial_s[failed])
-        kw = {"normal_stress": fixed, "stiffness": (kn[failed], ks[failed]), "tol": tol, "max_iter": max_iter,
-              "max_halvings": max_halvings - 1}
-        dn1, ds1, d1, *_ = plastic_return(mid_n, mid_s, damage[failed], p, start=(start_n, start_s), **kw)
-        dn2, ds2, d[failed], sigma_n[failed], sigma_s[failed] = plastic_return(
-            trial_n[failed] - dn1, trial_s[failed] - ds1, d1, p, start=(mid_n - dn1, mid_s - ds1), **kw)
-        du_n[failed], du_s[failed] = dn1 + dn2, ds1 + ds2
+        kw = lambda k: {"normal_stress": None if normal_stress is None else normal_stress[k],
+                        "stiffness": (kn[k], ks[k]), "tol": tol, "max_iter": max_iter,
+                        "max_halvings": max_halvings - 1}
+        dn1, ds1, d1, sn1, ss1 = plastic_return(mid_n, mid_s, damage[failed], p, start=(start_n, start_s),
+                                                **kw(failed))
+        du_n[failed], du_s[failed], d[failed], sigma_n[failed], sigma_s[failed] = dn1, ds1, d1, sn1, ss1
+        on = d1 < FAILURE_DAMAGE                              # a bond broken in the first half ends there
+        go = failed[on]
+        if go.size:
+            dn2, ds2, d[go], sigma_n[go], sigma_s[go] = plastic_return(
+                trial_n[go] - dn1[on], trial_s[go] - ds1[on], d1[on], p,
+                start=(mid_n[on] - dn1[on], mid_s[on] - ds1[on]), **kw(go))
+            du_n[go], du_s[go] = dn1[on] + dn2, ds1[on] + ds2
     return du_n, du_s, d, sigma_n, sigma_s

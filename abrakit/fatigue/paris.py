@@ -24,11 +24,8 @@ from __future__ import annotations
 import numpy as np
 from numpy.typing import ArrayLike
 
-from abrakit.fatigue.bond_law import BondParameters, criterion, damage_after, flow_direction
+from abrakit.fatigue.bond_law import BondParameters, _criterion, criterion, damage_after, flow_direction
 from abrakit.validation import check_finite, check_positive, check_range, number_arguments
-
-__all__ = ["cycle_jump", "cycle_update", "fatigue_displacements", "geometric_factor", "paris_increment",
-           "stress_intensity_range", "tensile_part"]
 
 
 def geometric_factor(damage):
@@ -74,6 +71,28 @@ def fatigue_displacements(damage: ArrayLike, increment: ArrayLike, sigma_n: Arra
     denominator = ratio_n / p.un + ratio_s / p.us
     scale = np.divide(kappa, denominator, out=np.zeros(np.shape(kappa)), where=denominator > 0)
     return ratio_n * scale, np.sign(sigma_s) * ratio_s * scale
+
+
+@number_arguments
+def peak_failure_damage(damage: ArrayLike, sigma_n: ArrayLike, sigma_s: ArrayLike, p: BondParameters):
+    """The damage D* ≥ D at which the damaged yield surface (Eq. 18) shrinks onto the stress (σ_n, σ_s), held fixed:
+    F(σ_n, σ_s, D*) = 0; D itself where the stress lies on or outside the surface, 1 where no damage reaches it (a
+    compressed bond whose friction alone carries its shear, α|σ_s| ≤ −σ_n tan φ).
+
+    At a fixed stress F is, on the physical branch, a downward parabola in the intact fraction I = 1 − D with
+    F(I = 0) = α²σ_s² + σ_n tan φ |σ_n tan φ|: where that is positive and F(1 − D) < 0 the parabola has exactly one
+    root between, found by bisection on I (to round-off). Pure tension gives 1 − σ_n/σ_t, pure shear 1 − |σ_s|/c."""
+    damage = np.asarray(damage, float)
+    sigma_n, sigma_s = np.broadcast_arrays(np.asarray(sigma_n, float), np.asarray(sigma_s, float))
+    shape = np.broadcast_shapes(damage.shape, sigma_n.shape)
+    low, high = np.zeros(shape), np.broadcast_to(1.0 - damage, shape).copy()   # F(low) > 0 > F(high)
+    inside = _criterion(sigma_n, sigma_s, 1.0 - high, p) < 0.0
+    reached = _criterion(sigma_n, sigma_s, np.ones(shape), p) > 0.0
+    for _ in range(80):
+        middle = 0.5 * (low + high)
+        outside = _criterion(sigma_n, sigma_s, 1.0 - middle, p) >= 0.0
+        low, high = np.where(outside, middle, low), np.where(outside, high, middle)
+    return np.where(inside, np.where(reached, 1.0 - high, 1.0), np.broadcast_to(damage, shape))
 
 
 @number_arguments
@@ -134,7 +153,8 @@ def cycle_update(damage: ArrayLike, peak, low, p: BondParameters, *, width=None,
     for (N − 1) × ``ratchet`` on top of their fatigue damage, and N_jump counts that damage rate (decision
     "ratcheting in the cycle jump"). Without ``ratchet`` (the paper) a yielding bond stands still during a jump.
 
-    ``limit``: the bonds' failure damage, passed to :func:`cycle_jump` (the jump stops before a bond fails).
+    ``limit``: the damage each bond's jump must not pass, passed to :func:`cycle_jump` (the jump stops before the
+    cycle in which a bond would reach it), e.g. :func:`peak_failure_damage` of the peaks; None: no limit.
 
     Returns ``(cycles, increment, du_n, du_s, skipped)``: the cycles represented, the damage increments, the
     fatigue displacements (zero for bonds that are not fatigued) and the plastic displacements (2, …) of the

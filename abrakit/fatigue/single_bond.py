@@ -19,11 +19,9 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from abrakit.fatigue.bond_law import BondParameters, criterion, plastic_return
+from abrakit.fatigue.bond_law import FAILURE_DAMAGE, BondParameters, criterion, plastic_return
 from abrakit.fatigue.paris import cycle_update
 from abrakit.validation import check_number_fields, check_option, check_positive, check_range, number_arguments
-
-__all__ = ["BondTest", "cyclic_test", "jump_reduction_percent", "monotonic_test", "softening_energy"]
 
 MODES = ("tension", "shear")
 
@@ -50,6 +48,8 @@ class BondTest:
     cycle_fatigue: list = field(default_factory=list)
 
     def __post_init__(self):
+        if not isinstance(self.p, BondParameters):
+            raise TypeError(f"p must be a BondParameters, got {self.p!r}")
         check_number_fields(self)
         check_option("mode", self.mode, MODES)
         self.damage = self.p.initial_damage
@@ -115,13 +115,14 @@ class BondTest:
         self._record(stress)
         return stress
 
-    def cycle(self, stress_min: float, stress_max: float, jump: float | None = None, max_cycles=None) -> bool:
+    def cycle(self, stress_min: float, stress_max: float, jump: float | None = None, max_cycles=None,
+              limit: float | None = None) -> bool:
         """One load cycle (or one cycle jump); returns False, doing nothing, if its peak reaches the yield surface.
 
-        A jump ends before the cycle in which the damage would reach the failure damage of the peak (the cycle that
-        fails the bond is simulated, not jumped over). The stress recorded at the peak after the damage update is
-        held on the damaged yield surface if the update took the surface below the peak (the bond fails in that
-        cycle)."""
+        A jump ends before the cycle in which the damage would reach ``limit``, by default (and at most) the failure
+        damage of the peak (the cycle that fails the bond is simulated, not jumped over). The stress recorded at the
+        peak after the damage update is held on the damaged yield surface if the update took the surface below the
+        peak (the bond fails in that cycle)."""
         peak = (stress_max, 0.0) if self.mode == "tension" else (0.0, stress_max)
         if criterion(*peak, self.damage, self.p) >= 0.0:
             return False
@@ -129,7 +130,8 @@ class BondTest:
         self._set_stress(stress_max)
         low = (stress_min, 0.0) if self.mode == "tension" else (0.0, stress_min)
         n, increment, dn, ds, _ = cycle_update(self.damage, peak, low, self.p, jump=jump, max_cycles=max_cycles,
-                                               limit=self.failure_damage(stress_max))
+                                               limit=min(self.failure_damage(stress_max), 1.0 if limit is None
+                                                         else float(limit)))
         if increment > 0.0:                                 # at the onset of unloading (Sec. 3.2)
             self.uf += (float(dn), float(ds))
             self.damage += float(increment)
@@ -141,9 +143,10 @@ class BondTest:
         return True
 
 
-def monotonic_test(p: BondParameters, mode: str, *, increment=2e-7, until_damage=1.0 - 1e-6, max_steps=100_000,
+def monotonic_test(p: BondParameters, mode: str, *, increment=2e-7, until_damage=FAILURE_DAMAGE, max_steps=100_000,
                    test: BondTest | None = None) -> BondTest:
-    """Monotonic pure tension or pure shear under displacement control until D ≥ ``until_damage``."""
+    """Monotonic pure tension or pure shear under displacement control until D ≥ ``until_damage`` (by default the
+    failure damage, :data:`~abrakit.fatigue.bond_law.FAILURE_DAMAGE`: the bond is broken)."""
     check_positive("increment", increment)
     check_range("until_damage", until_damage, 0.0, 1.0, low_open=True, high_open=True)
     test = BondTest(p, mode) if test is None else test
@@ -160,7 +163,12 @@ def cyclic_test(p: BondParameters, mode: str, *, stress_min: float = 20e3, stres
                 target_damage: float = 0.4, jump: float | None = None, to_failure=True, increment: float = 2e-7,
                 max_cycles: int = 1_000_000) -> BondTest:
     """Cyclic stress between ``stress_min`` and ``stress_max`` until D ≥ ``target_damage``, then (``to_failure``)
-    monotonic displacement control to failure. ``jump`` = ΔD_jump switches the cycle jump on (Eqs. 40, 41)."""
+    monotonic displacement control to failure. ``jump`` = ΔD_jump switches the cycle jump on (Eqs. 40, 41).
+
+    No jump passes the cycle that ends the cyclic phase: it stops before the cycle in which D would reach the
+    target or the peak's failure damage, whichever is lower, and that cycle is simulated. The programme then ends in
+    the same cycle with and without the jump, and in tension and shear alike (their damage histories coincide,
+    Sec. 4.2, while their failure damages differ: 1 − σ/σ_t and 1 − σ/c)."""
     check_range("stress_min", stress_min, 0.0, stress_max, high_open=True)
     check_range("target_damage", target_damage, p.initial_damage, 1.0, low_open=True, high_open=True)
     if jump is not None:
@@ -168,7 +176,8 @@ def cyclic_test(p: BondParameters, mode: str, *, stress_min: float = 20e3, stres
     test = BondTest(p, mode)
     while test.damage < target_damage:
         done = test.cycles[-1] if test.cycles else 0
-        if done >= max_cycles or not test.cycle(stress_min, stress_max, jump, max_cycles - done):
+        if done >= max_cycles or not test.cycle(stress_min, stress_max, jump, max_cycles - done,
+                                                limit=target_damage):
             break
         if test.cycle_damage[-1] <= (test.cycle_damage[-2] if len(test.cycle_damage) > 1 else p.initial_damage):
             break                                                     # below the fatigue threshold: no growth
