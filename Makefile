@@ -4,12 +4,12 @@ VENV   := .venv
 BIN    := $(VENV)/bin
 STAMP  := $(VENV)/.installed
 
-.PHONY: test test-all book demo bench lint clean
+.PHONY: test test-all book book-check demo bench lint clean
 
 $(STAMP): pyproject.toml
 	test -x $(BIN)/python || $(PYTHON) -m venv $(VENV)
 	$(BIN)/python -m pip install --quiet --upgrade pip
-	$(BIN)/python -m pip install --quiet -e '.[test,book,dev,fast,cluster]'
+	$(BIN)/python -m pip install --quiet -e '.[test,book,browser,dev,fast,cluster]'
 	touch $(STAMP)
 
 test: $(STAMP)
@@ -22,7 +22,13 @@ book: $(STAMP)
 	$(BIN)/python book/cache_key.py
 	$(BIN)/jupyter-book build --warningiserror --keep-going book
 	$(BIN)/python book/check_offline.py
+	$(BIN)/python book/check_solutions.py
 	@echo "book built: book/_build/html/index.html"
+
+# every page of the built book in headless Chromium at 1280 px (Debian's chromium, installed where missing)
+book-check: $(STAMP)
+	command -v chromium >/dev/null || (apt-get update && DEBIAN_FRONTEND=noninteractive apt-get install -y chromium)
+	$(BIN)/python book/check_browser.py
 
 demo: $(STAMP)
 	$(BIN)/abrakit demo
