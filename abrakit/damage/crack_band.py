@@ -24,13 +24,10 @@ from ..fem.boundary import Dirichlet
 from ..fem.kinematics import vector_basis
 from ..fem.pathfollow import PathFollowingSolver
 from ..fem.problems import element_opening, strip
-from ..fem.solver import Solver, StepControl
+from ..fem.solver import Solver
 from ..materials.anisotropic_damage import AnisotropicSofteningDamage, projected_band_width
 from ..materials.softening_laws import softening_law
 from ..validation import check_number_fields, check_option, check_positive, check_range
-from . import metrics
-
-__all__ = ["CrackBandBar", "DoubleCantileverBeam", "STEEL_SPECIMENS", "demo"]
 
 #: Seed 001's material on the steel specimens of Ch. 7 (E, nu of Table 7.1; MPa, N/mm). Seed 001 gives no numbers
 #: for a steel: sigma_c and tau_c are chosen so that the double notch peaks near Model I and II (about 10 kN),
@@ -206,13 +203,16 @@ class DoubleCantileverBeam:
                                           plane=True, relative_strength=strength, relative_toughness=strength**3,
                                           crack_normal=(0.0, 1.0, 0.0))
 
-    def solver(self, delta: float, *, follow: bool = True, **options) -> Solver:
+    def solver(self, delta: float, *, follow: bool = True, material=None, **options) -> Solver:
         """The damage model under the arm deflection ``delta`` (mm) at λ = 1; force ``F_load``, deflection
         ``u_load``. ``follow``: a :class:`~abrakit.fem.pathfollow.PathFollowingSolver` (dissipation control past
         the peak; each ligament element that fails releases its energy in a small snap-back), else a
-        displacement-controlled :class:`~abrakit.fem.Solver`."""
+        displacement-controlled :class:`~abrakit.fem.Solver`. ``material``: a function of the basis that returns
+        the material (default :meth:`material`, whose crack plane is the ligament's)."""
+        if material is not None and not callable(material):
+            raise TypeError(f"material must be a function of the basis or None, got {type(material).__name__}")
         basis = vector_basis(self.mesh())
-        arguments = (basis, self.material(basis), self._conditions(basis, self.crack, delta))
+        arguments = (basis, (material or self.material)(basis), self._conditions(basis, self.crack, delta))
         return PathFollowingSolver(*arguments, **options) if follow else Solver(*arguments, **options)
 
     def compliance(self, cracks) -> np.ndarray:
@@ -245,19 +245,3 @@ class DoubleCantileverBeam:
         spline = CubicSpline(cracks, self.compliance(cracks))
         force = np.sqrt(self.G_Ic / spline(cracks, 1))
         return spline(cracks) * force, force
-
-
-def demo() -> str:
-    """A crack-band bar on 1 and 64 elements: the energy per crack area is G_Ic on both (a second)."""
-    lines = []
-    for n in (1, 64):
-        bar = CrackBandBar(n)
-        solver = bar.solver(follow=False, control=StepControl(initial=0.01, maximum=0.01))
-        result = solver.run(progress=False)
-        v, F = result.curves["u_right"], result.curves["F_right"]
-        work = metrics.work(v, F)
-        lines.append(f"{n} element(s): peak {F.max():.4f} N (weak element's strength {bar.strength:g} N), "
-                     f"work to separation {work:.5f} N mm against G_Ic A = {bar.fracture_energy:g} N mm "
-                     f"({100 * (work / bar.fracture_energy - 1):+.3f} %)")
-    return ("Seed 001's anisotropic softening damage, crack band in a 100 mm bar (E = 1000 MPa, sigma_c = 1 MPa, "
-            "G_Ic = 0.1 N/mm, linear softening): " + "; ".join(lines) + ". The energy does not depend on the mesh.")
