@@ -35,23 +35,8 @@ from scipy.special import wrightomega
 from .validation import check_finite, check_number_fields, check_option, check_positive, check_range, number_arguments
 
 __all__ = [
-    "SCHEMES",
-    "Damage1D",
-    "DamageState",
-    "Dissipation",
-    "NonConvexWarning",
-    "PlasticState",
-    "Plasticity1D",
-    "convergence_study",
-    "demo",
-    "elasto_viscoplastic",
-    "observed_order",
-    "rate_dependent",
-    "rate_dependent_update",
-    "rate_independent",
-    "reference_solution",
-    "simulate",
-    "variational_update",
+    "Plasticity1D", "PlasticState", "Damage1D", "Dissipation", "SCHEMES", "simulate", "rate_independent",
+    "rate_dependent", "rate_dependent_update", "variational_update", "elasto_viscoplastic", "convergence_study"
 ]
 
 #: Time discretisations listed after Eq. (2.110): (time level of the strain, time level of λ) in p(ε, λ).
@@ -656,22 +641,3 @@ def convergence_study(model, dissipation: Dissipation, strain_fn, t_end, n_steps
 # ----------------------------------------------------------------------------------------------------------
 # Demo
 # ----------------------------------------------------------------------------------------------------------
-
-
-def demo() -> str:
-    """One small scene: 1D plasticity and damage, closed form vs numerical update, and orders in Δt."""
-    plast, damage = Plasticity1D(E=200_000.0, K=8_000.0), Damage1D(E=200_000.0)
-    d_plast, d_damage = elasto_viscoplastic(60.0, 10_000.0), elasto_viscoplastic(0.05, 0.05)
-    lines = ["abrakit.evolution: PMDP updates (Eqs. 2.109, 2.111, 2.112, 4.53) on 1D models"]
-    for name, model, diss, amp in (("plasticity", plast, d_plast, 2e-3), ("damage", damage, d_damage, 1.5e-3)):
-        time = np.linspace(0.0, 1.0, 65)
-        strain = amp * np.sin(2 * np.pi * time)
-        closed = simulate(model, strain, time, diss, "implicit")
-        numeric = simulate(model, strain, time, diss, "variational")
-        field = model.initial_state()._fields[0]
-        gap = np.max(np.abs(closed[field] - numeric[field]))
-        study = convergence_study(model, diss, lambda t, a=amp: a * np.sin(2 * np.pi * t), 1.0,
-                                  n_steps=(32, 64, 128), schemes=tuple(SCHEMES))
-        orders = ", ".join(f"{s} {o:.2f}" for s, o in study["orders"].items())
-        lines.append(f"  {name:10s} max|closed - variational| = {gap:.1e}; observed orders: {orders}")
-    return "\n".join(lines)

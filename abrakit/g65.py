@@ -37,20 +37,7 @@ import numpy as np
 from abrakit.validation import check_number_fields, check_option, check_positive, check_range, number_arguments
 from abrakit.wear import contacting_particles, wheel_surface_speed
 
-__all__ = [
-    "ASTM_G65_STANDARD",
-    "PROCEDURES",
-    "G65Standard",
-    "Procedure",
-    "contact_zone",
-    "g65_bounds",
-    "grains_in_contact",
-    "line_contact_half_width",
-    "plastic_groove_area",
-    "procedure_duration",
-    "sand_volume_flow",
-    "shore_a_modulus",
-]
+__all__ = ["G65Standard", "contact_zone", "sand_volume_flow", "g65_bounds"]
 
 MM3 = 1e-9
 """One cubic millimetre in m³."""
@@ -95,6 +82,9 @@ class G65Standard:
         for name in ("wheel_diameter", "wheel_width", "rpm", "sand_density", "procedure_b_threshold"):
             check_positive(name, getattr(self, name))
         check_range("rubber_poisson", self.rubber_poisson, 0.0, 0.5)
+        for name, low, high in (("rubber_shore_a", 0.0, 100.0), ("sand_sizes", 0.0, None), ("sand_flow", 0.0, None),
+                                ("coupon", 0.0, None), ("measured_losses", 0.0, None)):
+            check_range(name, getattr(self, name), low, high, low_open=True, high_open=high is not None)
 
     @property
     def wheel_speed(self) -> float:

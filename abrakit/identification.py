@@ -53,11 +53,13 @@ from .validation import (
     number_arguments,
 )
 
-__all__ = ["ContactSolution", "NumericalElasticity", "POISSON_RANGE", "VARIANTS", "affine_contact_displacements",
-           "affine_stiffness", "bond_strengths", "constraint_gradient", "contact_density", "contact_forces",
-           "contact_stiffnesses", "demo", "elastic_constants", "failure_stresses", "hertz_contact_radius",
-           "hertz_normal_stiffness", "hertz_shear_stiffness", "isotropic_part", "measured_contact_density",
-           "minimise_contact_energy", "numerical_elastic_constants", "particle_number_density", "series_stiffness"]
+__all__ = [
+    "POISSON_RANGE", "VARIANTS", "particle_number_density", "contact_density", "measured_contact_density",
+    "elastic_constants", "contact_stiffnesses", "failure_stresses", "bond_strengths", "series_stiffness",
+    "hertz_contact_radius", "hertz_normal_stiffness", "hertz_shear_stiffness", "affine_contact_displacements",
+    "constraint_gradient", "minimise_contact_energy", "affine_stiffness", "numerical_elastic_constants",
+    "isotropic_part"
+]
 
 VARIANTS = ("published", "consistent", "affine")
 
@@ -193,13 +195,25 @@ def bond_strengths(sigma_rankine, sigma_tresca, rho_c, radius, variant: str = "p
 
 
 def series_stiffness(k_a, k_b):
-    """Contact stiffness of two particle springs in series, Eq. (4.11)/(4.12): ``K = k_a k_b / (k_a + k_b)``.
+    """Contact stiffness of two springs in series, Eq. (4.11)/(4.12): ``K = k_a k_b / (k_a + k_b)`` (N/m).
 
-    The same rule gives the normal (4.11) and the tangential (4.12) contact stiffness (N/m).
+    The same rule gives the normal (4.11) and the tangential (4.12) contact stiffness, of two particles or of a
+    particle and a wall; the DEM's contact laws call it per contact. Each stiffness lies in [0, inf] (0: no
+    spring, which gives K = 0; inf: a rigid side, which gives the other side's stiffness); NaN or a negative
+    value is refused. Arguments broadcast.
     """
-    from .dem.contact_laws import series_stiffness as dem_series_stiffness  # the engine's rule, one implementation
-
-    return dem_series_stiffness(check_positive("k_a", k_a), check_positive("k_b", k_b))
+    stiffnesses = []
+    for name, k in (("k_a", k_a), ("k_b", k_b)):
+        try:
+            k = np.asarray(k, float)
+        except (TypeError, ValueError):
+            raise TypeError(f"{name} must be a stiffness in [0, inf] (N/m), got {k!r}") from None
+        stiffnesses.append(k)
+        if k.size and not k.min() >= 0.0:                       # one pass: a NaN fails the comparison too
+            raise ValueError(f"{name} must lie in [0, inf] (a stiffness, N/m), got {k[np.isnan(k) | (k < 0)][:3]}")
+    k_a, k_b = stiffnesses
+    with np.errstate(divide="ignore"):                        # 1/0 = inf: a side without spring gives 0
+        return 1.0 / (1.0 / k_a + 1.0 / k_b)
 
 
 def hertz_contact_radius(r_a, r_b=None):
@@ -468,25 +482,3 @@ def numerical_elastic_constants(kn, kt, rho_c, radius, variant: str = "published
         C = to_voigt(sigma, "stress").T
     E, nu, anisotropy = isotropic_part(C)
     return NumericalElasticity(float(E), float(nu), C, float(anisotropy))
-
-
-def demo() -> str:
-    """A small scene: Eq. (5.20) against its numerical minimisation, the affine check, a round trip."""
-    kn, kt, radius = 1.0e7, 4.0e6, 1.0e-3  # N/m, N/m, m
-    rho_c = contact_density(6.0, 0.35, radius)
-    lines = [f"rho_c (c = 6, eta = 0.35, r = 1 mm) = {rho_c:.4e} 1/m^3  (Eq. 5.9)"]
-    for variant in VARIANTS:
-        E, nu = elastic_constants(kn, kt, rho_c, radius, variant)
-        num = numerical_elastic_constants(kn, kt, rho_c, radius, variant, degree=4)
-        lines.append(
-            f"{variant:10s}: E = {E / 1e9:8.4f} GPa, nu = {nu:.4f};  numerical: rel. error "
-            f"{abs(num.E / E - 1):.1e} / {abs(num.nu / nu - 1):.1e}"
-        )
-    n, w = sphere_quadrature(4)
-    grad_u = np.array([[1.0, 0.2, 0.0], [0.0, -0.5, 0.1], [0.3, 0.0, 0.2]]) * 1e-3
-    u = affine_contact_displacements(grad_u, n, radius)
-    ratio = constraint_gradient(u, n, w, radius, "published")[0, 0] / grad_u[0, 0]
-    lines.append(f"affine field in Eq. (5.10): alpha = 1 (published) gives {ratio:.4f} grad u, 3/2 gives 1")
-    kn2, kt2 = contact_stiffnesses(69e9, 0.26, rho_c, radius)
-    lines.append(f"Eq. (5.21), granite (E = 69 GPa, nu = 0.26): Kn = {kn2:.3e} N/m, Kn/Kt = {kn2 / kt2:.3f}")
-    return "\n".join(lines)

@@ -21,11 +21,11 @@ from numpy.typing import ArrayLike
 
 from .validation import check_option, check_poisson, check_positive, number_arguments
 
-__all__ = ["VECTOR_WEIGHTS", "VOIGT_PAIRS", "ddot", "ddot42", "demo", "dev", "fourth_moment_contraction",
-           "from_mandel", "from_mandel4", "from_voigt", "from_voigt4", "identity4_dev", "identity4_sym",
-           "identity4_vol", "isotropic_stiffness", "lame", "mandel_rotation", "negative_part", "norm", "outer",
-           "positive_part", "sphere_average", "sphere_quadrature", "to_mandel", "to_mandel4", "to_voigt",
-           "to_voigt4", "trace"]
+__all__ = [
+    "VECTOR_WEIGHTS", "VOIGT_PAIRS", "to_voigt", "from_voigt", "to_voigt4", "to_mandel", "to_mandel4", "trace",
+    "ddot", "ddot42", "positive_part", "negative_part", "lame", "isotropic_stiffness", "sphere_quadrature",
+    "sphere_average", "fourth_moment_contraction"
+]
 
 #: Index pairs of the Voigt/Mandel positions, order (11, 22, 33, 23, 13, 12), Eq. (2.17).
 VOIGT_PAIRS = ((0, 0), (1, 1), (2, 2), (1, 2), (0, 2), (0, 1))
@@ -311,15 +311,3 @@ def fourth_moment_contraction(sigma: ArrayLike) -> np.ndarray:
     """Closed form of Eq. (5.18): ``<n n n n> : sigma = (tr(sigma) I + 2 sigma)/15`` for symmetric sigma."""
     sigma = _check_tensor("sigma", sigma)
     return (trace(sigma)[..., None, None] * I2 + 2.0 * sigma) / 15.0
-
-
-def demo() -> str:
-    """A small scene: Eq. (5.18) by quadrature, and the tension/compression split of a strain."""
-    sigma = np.array([[3.0, 1.0, 0.0], [1.0, -2.0, 0.5], [0.0, 0.5, 1.0]])
-    by_quadrature = sphere_average(lambda n: np.einsum("mi,mj,mk,ml,kl->mij", n, n, n, n, sigma), degree=4)
-    error = np.abs(by_quadrature - fourth_moment_contraction(sigma)).max()
-    eps = np.diag([1e-3, -2e-3, 5e-4])
-    return (
-        f"<nnnn>:sigma by a {len(sphere_quadrature(4)[1])}-point sphere rule vs Eq. (5.18): max error {error:.1e}\n"
-        f"positive part of diag(1e-3, -2e-3, 5e-4): diag{tuple(np.diag(positive_part(eps)).tolist())}"
-    )

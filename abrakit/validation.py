@@ -15,8 +15,9 @@ from collections.abc import Iterable
 import numpy as np
 from numpy.typing import ArrayLike
 
-__all__ = ["all_finite", "broadcast_shapes", "check_finite", "check_number_fields", "check_option", "check_poisson",
-           "check_positive", "check_range", "check_shape", "number_arguments"]
+__all__ = ["all_finite", "broadcast_shapes", "check_callable", "check_finite", "check_indices", "check_instance",
+           "check_number_fields", "check_option", "check_poisson", "check_positive", "check_range", "check_shape",
+           "number_arguments"]
 
 
 def _describe(low, high, low_open, high_open) -> str:
@@ -85,6 +86,37 @@ def check_option(name: str, value, allowed: Iterable[str]):
     if value not in allowed:
         raise ValueError(f"{name} must be one of {allowed}, got {value!r}")
     return value
+
+
+def check_instance(name: str, value, types, *, optional: bool = False):
+    """Return ``value`` if it is an instance of ``types`` (a class or a tuple of them), or ``None`` where
+    ``optional``; else raise ``TypeError`` naming the parameter and the allowed types."""
+    if (value is None and optional) or isinstance(value, types):
+        return value
+    names = " or ".join(t.__name__ for t in (types if isinstance(types, tuple) else (types,)))
+    raise TypeError(f"{name} must be a {names}{' or None' if optional else ''}, got {value!r}")
+
+
+def check_callable(name: str, value, *, optional: bool = False):
+    """Return ``value`` if it is callable (or ``None`` where ``optional``), else raise ``TypeError`` naming it."""
+    if (value is None and optional) or callable(value):
+        return value
+    raise TypeError(f"{name} must be a function{' or None' if optional else ''}, got {value!r}")
+
+
+def check_indices(name: str, value, size: int) -> np.ndarray:
+    """Return ``value`` as an index array into ``size`` entries: integers in [-size, size) or a boolean mask of
+    length ``size``; else raise ``TypeError``/``ValueError`` naming the parameter."""
+    arr = np.asarray(value)
+    if arr.dtype == bool:
+        if arr.shape != (size,):
+            raise ValueError(f"{name} must be a boolean mask of length {size}, got shape {arr.shape}")
+        return arr
+    if arr.dtype.kind not in "iu":
+        raise TypeError(f"{name} must be integer indices or a boolean mask, got {value!r}")
+    if arr.size and (arr.min() < -size or arr.max() >= size):
+        raise ValueError(f"{name} must hold indices in [{-size}, {size}), got {arr.min()} .. {arr.max()}")
+    return arr
 
 
 def check_shape(name: str, array, shape: tuple):

@@ -32,31 +32,9 @@ import numpy as np
 from abrakit.validation import broadcast_shapes, check_number_fields, check_positive, check_range
 
 __all__ = [
-    "ASTM_G65",
-    "CONTACT_COEFFICIENT",
-    "CUTTING_LIMIT",
-    "G65_CONTACT_AREA",
-    "GRAIN_100UM",
-    "GRAIN_200UM",
-    "PENETRATION_BANDS",
-    "PLOWING_LIMIT",
-    "TABLE_8_4",
-    "G65Test",
-    "Grain",
-    "ScalingAreaFit",
-    "astm_g65_table",
-    "contacting_particles",
-    "contacting_particles_mixture",
-    "degree_of_penetration",
-    "degree_of_wear",
-    "demo",
-    "fit_scaling_area",
-    "mixture_wear_rate",
-    "particle_wear_rate",
-    "penetration_regime",
-    "wear_rate",
-    "wear_regime",
-    "wheel_surface_speed",
+    "Grain", "GRAIN_100UM", "GRAIN_200UM", "ASTM_G65", "G65_CONTACT_AREA", "TABLE_8_4", "astm_g65_table", "wear_rate",
+    "mixture_wear_rate", "contacting_particles", "contacting_particles_mixture", "fit_scaling_area", "degree_of_wear",
+    "degree_of_penetration", "wear_regime", "penetration_regime", "PENETRATION_BANDS", "wheel_surface_speed"
 ]
 
 PLOWING_LIMIT = 0.2
@@ -374,23 +352,3 @@ def astm_g65_table(area=G65_CONTACT_AREA, test: G65Test = ASTM_G65, fine: Grain 
     ours = per_area * check_positive("area", area)
     return {"label": labels, "theta_coarse": theta, "per_area": per_area, "seed": seed, "ours": ours,
             "deviation": ours / seed - 1.0}
-
-
-def demo() -> str:
-    """Table 8.4 recomputed, with the derived contact area, in a few lines."""
-    table = astm_g65_table()
-    fit = fit_scaling_area(table["per_area"], table["seed"])
-    N_a, N_b = contacting_particles_mixture(200e-6, 100e-6, 0.7)
-    lines = [
-        "Wear-rate model (Ch. 8.4), ASTM G65: wheel 228.5 mm at 200 rpm -> "
-        f"v_t = {ASTM_G65.wheel_speed:.4f} m/s",
-        f"N_c(100 um) = {contacting_particles(100e-6):.3g} /m2; 70/30 mixture of 200/100 um: "
-        f"N_A = {N_a:.3g}, N_B = {N_b:.3g} /m2",
-        f"contact area derived from Table 8.4: {G65_CONTACT_AREA * 1e6:.2f} mm2 (consistent interval "
-        f"{fit.low * 1e6:.3f}-{fit.high * 1e6:.3f} mm2; half specimen face {ASTM_G65.specimen_area / 2 * 1e6:.1f})",
-        f"{'material':32s} {'seed':>6s} {'ours':>7s} {'dev %':>6s}   [1e-7 m3/s]",
-    ]
-    for label, s, o, d in zip(table["label"], table["seed"], table["ours"], table["deviation"], strict=True):
-        lines.append(f"{label:32s} {s * 1e7:6.2f} {o * 1e7:7.3f} {100 * d:+6.2f}")
-    lines.append(f"regimes: f_ab = 0.37 -> {wear_regime(0.37)}, f_ab = 0.12 -> {wear_regime(0.12)}")
-    return "\n".join(lines)

@@ -28,7 +28,8 @@ import matplotlib.pyplot as plt
 from _common import command_line, save_figure
 
 from abrakit.dem.fatigue_specimen import bonded_bar, cyclic_bar, history_deviation
-from abrakit.fatigue import BondParameters, cyclic_test, jump_reduction_percent
+from abrakit.fatigue import BondParameters, cyclic_test
+from abrakit.fatigue.single_bond import jump_reduction_percent
 from abrakit.io import CurveWriter, write_json
 
 NAME = "fatigue"

@@ -1,6 +1,6 @@
 """Benchmark: the scratch's Newton corrections exact or inexact (GMRES with kept factors), on one thread and on two.
 
-Issue 39's third round. :data:`abrakit.scratch.scene.SCENE_FORCING` takes a correction within an increment from
+Issue 39's third round. :data:`abrakit.scratch.run.SCENE_FORCING` takes a correction within an increment from
 GMRES preconditioned with the factors kept from the increment's last factorisation, to 3 % of the residual in at
 most eight iterations, and factorises only when that fails. Whether that pays depends on what a factorisation
 costs against a GMRES iteration (one solve with the kept factors, one product with the tangent): this benchmark
@@ -32,7 +32,8 @@ from _common import RESULTS, command_line, save_figure
 from bench_scratch_speed import row_of as speed_row
 
 from abrakit.io import CurveWriter, read_json, write_json
-from abrakit.scratch.scene import DEMO_SCENE, ScratchScene, run_scratch
+from abrakit.scratch.run import run_scratch
+from abrakit.scratch.scene import DEMO_SCENE, ScratchScene
 
 NAME = "kept_factors"
 CASES = {"1thread_exact": (1, False), "1thread_inexact": (1, True), "2threads_exact": (2, False),

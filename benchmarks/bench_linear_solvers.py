@@ -28,8 +28,8 @@ import scipy.sparse as sp
 import skfem
 from _common import RESULTS, command_line, save_figure
 
-from abrakit.fem import AMGSolver, Assembler, DirectSolver, Dirichlet, Kinematics, pardiso_available
-from abrakit.fem.linsolve import rigid_body_modes
+from abrakit.fem import Assembler, DirectSolver, Dirichlet, Kinematics
+from abrakit.fem.linsolve import AMGSolver, pardiso_available, rigid_body_modes
 from abrakit.io import CurveWriter, write_json
 from abrakit.materials import LinearElastic
 

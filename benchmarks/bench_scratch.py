@@ -42,7 +42,8 @@ from _common import RESULTS, save_figure
 
 from abrakit.io import CurveWriter, read_curve, read_json, write_json
 from abrakit.scratch import ConicalIndenter, SphericalIndenter
-from abrakit.scratch.scene import SEED_FORMULATION, run_scratch
+from abrakit.scratch.run import run_scratch
+from abrakit.scratch.scene import SEED_FORMULATION
 from abrakit.scratch.scene import ScratchScene as _Scene
 from abrakit.wear import GRAIN_100UM, GRAIN_200UM, Grain, astm_g65_table
 

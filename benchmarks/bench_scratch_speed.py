@@ -38,8 +38,10 @@ from _common import RESULTS, command_line, save_figure
 from abrakit.fem import StepFailed
 from abrakit.io import CurveWriter, read_curve, read_json, write_json
 from abrakit.scratch.budget import steady_rates
+from abrakit.scratch.readouts import groove_along
 from abrakit.scratch.record import slide_mean
-from abrakit.scratch.scene import DEMO_SCENE, ScratchScene, build_specimen, groove_along, run_scratch
+from abrakit.scratch.run import run_scratch
+from abrakit.scratch.scene import DEMO_SCENE, ScratchScene, build_specimen
 
 TARGETS_S = {"default": 300.0, "coarse_long": 240.0, "demo_scene": 30.0}
 """Wall-time targets of issue 39, s (2-core machine); "demo_scene" is the live scene of ``abrakit demo`` and the
@@ -51,7 +53,7 @@ COLUMNS = ("name", "mesh", "slide_um", "length_um", "dofs", "increments", "newto
            "f_ab_rates_error", "note")
 
 EXACT_CORRECTIONS = "scratch_speed_exact_corrections.json"
-"""The table as it stood before the scene's inexact Newton corrections (:data:`~abrakit.scratch.scene.SCENE_FORCING`;
+"""The table as it stood before the scene's inexact Newton corrections (:data:`~abrakit.scratch.run.SCENE_FORCING`;
 every correction solved to 10⁻⁸; measured on an earlier machine, an Intel Xeon, where the later ones ran on an AMD
 EPYC): each run computed again with them is compared with its row there (:func:`against_exact`)."""
 COMPARED = ("F_N", "A_g_um2", "f_ab_rates", "f_ab_sections", "wall_time_s", "newton_iterations", "cutbacks")

@@ -44,14 +44,9 @@ from abrakit.fem import Kinematics
 from abrakit.io import CurveWriter, read_curve, read_json, write_json
 from abrakit.scratch import SphericalIndenter
 from abrakit.scratch.budget import SteadyRates, plateau_onset, removal_by_plastic_strain, steady_rates
-from abrakit.scratch.scene import (
-    SEED_FORMULATION,
-    GrooveAlong,
-    ScratchScene,
-    build_specimen,
-    groove_along,
-    run_scratch,
-)
+from abrakit.scratch.readouts import GrooveAlong, groove_along
+from abrakit.scratch.run import run_scratch
+from abrakit.scratch.scene import SEED_FORMULATION, ScratchScene, build_specimen
 from abrakit.wear import GRAIN_100UM, GRAIN_200UM, Grain, astm_g65_table
 
 LONG = {"slide": 0.2, "size": (0.1, 0.015, 0.3)}

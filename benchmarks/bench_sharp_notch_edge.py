@@ -31,7 +31,8 @@ from abrakit.damage.metrics import element_areas
 from abrakit.damage.model_two_fe import default_material, element_f_bar
 from abrakit.damage.runs import run_specimen
 from abrakit.damage.specimens import plot_field, sharp_notch
-from abrakit.fem import NewtonOptions, PathControl, PathFollowingSolver, surface_load
+from abrakit.fem import NewtonOptions, PathControl, PathFollowingSolver
+from abrakit.fem.boundary import surface_load
 from abrakit.io import CurveWriter, write_json
 
 NAME = "sharp_notch_edge"

@@ -48,14 +48,17 @@ PIECES = ("evaluate", "material_tangent", "element_tangents", "tangent", "factor
 PROBE = r"""
 import json, sys, time
 import numpy as np
-from abrakit.fem import StepContext
+from abrakit.fem import Solver
+from abrakit.fem.solver import LineSearch, StepContext
 from abrakit.materials import LogStrainPlasticity
-from abrakit.scratch.scene import LineSearchSolver, ScratchScene, build_specimen, scene_linear_solver, st52_material
+from abrakit.scratch.run import scene_linear_solver
+from abrakit.scratch.scene import ScratchScene, build_specimen, st52_material
 
 scene = ScratchScene(mesh=sys.argv[1])
 specimen = build_specimen(scene)
 material = LogStrainPlasticity(st52_material())
-solver = LineSearchSolver(specimen.basis, material, specimen.conditions, bbar=True, finite_strain=True)
+solver = Solver(specimen.basis, material, specimen.conditions, bbar=True, finite_strain=True,
+                line_search=LineSearch())
 solver.linear_solver = scene_linear_solver(solver, "auto")
 kin, free = solver.kin, solver.constraints.free
 u = np.zeros(kin.ndof)
@@ -103,7 +106,8 @@ print(json.dumps(out))
 
 RUN = r"""
 import json, sys, time
-from abrakit.scratch.scene import ScratchScene, run_scratch
+from abrakit.scratch.run import run_scratch
+from abrakit.scratch.scene import ScratchScene
 
 t0 = time.perf_counter()
 result = run_scratch(ScratchScene(mesh=sys.argv[1], slide=float(sys.argv[2])), vtu_every=0)

@@ -2,7 +2,8 @@
 
 Jupyter Book's ``execute_notebooks: cache`` re-executes a chapter only when its code cells change. The chapters also
 run the package and read the stored benchmark results, so this script hashes ``abrakit/**/*.py``,
-``benchmarks/results/**`` and ``pyproject.toml`` and deletes ``book/_build/.jupyter_cache`` and Sphinx's saved
+``benchmarks/results/**``, the module that reads them (``benchmarks/reproduction.py``, ``book/benchmark_results.py``)
+and ``pyproject.toml`` and deletes ``book/_build/.jupyter_cache`` and Sphinx's saved
 environment (``.doctrees``) when the hash differs from the one of the last build (``make book`` runs it first; a
 fresh clone has no cache and executes everything).
 """
@@ -21,6 +22,7 @@ STAMP = BUILD / ".abrakit_cache_key"
 def current_key() -> str:
     digest = hashlib.sha256()
     files = sorted([*ROOT.glob("abrakit/**/*.py"), *(p for p in ROOT.glob("benchmarks/results/**/*") if p.is_file()),
+                    ROOT / "benchmarks" / "reproduction.py", ROOT / "book" / "benchmark_results.py",
                     ROOT / "pyproject.toml"])
     for path in files:
         digest.update(str(path.relative_to(ROOT)).encode())

@@ -10,8 +10,8 @@ every mesh. Writes ``crack_band.csv``.
 import sys
 from pathlib import Path
 
-from abrakit.damage import metrics
-from abrakit.damage.crack_band import CrackBandBar
+from abrakit import damage
+from abrakit.damage import CrackBandBar
 from abrakit.fem import StepControl
 from abrakit.io import CurveWriter
 
@@ -24,7 +24,7 @@ def main(outdir="results/examples"):
             bar = CrackBandBar(n)
             result = bar.solver(follow=False, control=StepControl(initial=0.01, maximum=0.01)).run(progress=False)
             v, F = result.curves["u_right"], result.curves["F_right"]
-            work = metrics.work(v, F)
+            work = damage.work(v, F)
             errors[n] = work / bar.fracture_energy - 1.0
             out.write(elements=n, peak_N=F.max(), strength_N=bar.strength, work_Nmm=work,
                       fracture_energy_Nmm=bar.fracture_energy)

@@ -10,9 +10,8 @@ force falls to 10 % of its peak, writes ``comparison.csv`` (peak, work, steps an
 import sys
 from pathlib import Path
 
-from abrakit.damage import metrics
-from abrakit.damage.runs import REGULARISATION, run_specimen
-from abrakit.damage.specimens import specimen
+from abrakit import damage
+from abrakit.damage import REGULARISATION, run_specimen, specimen
 from abrakit.io import CurveWriter
 
 
@@ -26,7 +25,7 @@ def main(outdir="results/examples", elements=250):
                 for u, F in zip(run.u, run.F, strict=True):
                     out.write(u_mm=u, F_N=F)
             rows.append({"model": model, "strength": strength, "parameter": parameter, "peak_N": float(run.F.max()),
-                         "work_Nmm": metrics.path_work(run.u, run.F), "status": run.status, "steps": run.steps,
+                         "work_Nmm": damage.path_work(run.u, run.F), "status": run.status, "steps": run.steps,
                          "seconds": run.seconds})
             print(f"Model {model:2s} {strength:6s} ({parameter:g}): peak {run.F.max():6.0f} N, work "
                   f"{rows[-1]['work_Nmm']:6.1f} N mm, {run.status} after {run.steps} steps, {run.seconds:.1f} s")

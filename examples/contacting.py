@@ -11,7 +11,7 @@ small scatters by about +-0.04 from the mean of many; the chapter's benchmark av
 import sys
 from pathlib import Path
 
-from abrakit.experiments.contacting import SEED_COEFFICIENT, contact_census, pressed_bed
+from abrakit.experiments import SEED_COEFFICIENT, contact_census, pressed_bed
 from abrakit.io import write_json
 
 

@@ -11,9 +11,7 @@ from the specimen's own contact density.
 import sys
 from pathlib import Path
 
-from abrakit.experiments.closed_form_checks import DEMO_SPEC, contact_statistics, elastic_predictions
-from abrakit.experiments.compression import elastic_test
-from abrakit.experiments.specimen import genesis
+from abrakit.experiments import DEMO_SPEC, contact_statistics, elastic_predictions, elastic_test, genesis
 from abrakit.io import CurveWriter
 
 

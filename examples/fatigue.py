@@ -10,7 +10,7 @@ D = 0.4, computed cycle by cycle and with the cycle jump.
 import sys
 from pathlib import Path
 
-from abrakit.damage.metrics import path_work
+from abrakit.damage import path_work
 from abrakit.fatigue import BondParameters, cyclic_test, monotonic_test, softening_energy
 from abrakit.io import CurveWriter
 

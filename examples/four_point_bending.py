@@ -12,7 +12,7 @@ above it). Writes ``bending.csv`` (deflection and load).
 import sys
 from pathlib import Path
 
-from abrakit.experiments import bending as fb
+from abrakit import experiments as fb
 from abrakit.io import CurveWriter
 
 

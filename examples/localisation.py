@@ -10,7 +10,7 @@ the limit), Model I's and Model II's settle.
 import sys
 from pathlib import Path
 
-from abrakit.damage.localisation import localisation_study
+from abrakit.damage import localisation_study
 from abrakit.io import CurveWriter
 
 

@@ -13,7 +13,7 @@ from pathlib import Path
 
 import numpy as np
 
-from abrakit.damage.localisation import run_bar
+from abrakit.damage import run_bar
 from abrakit.io import CurveWriter
 from abrakit.materials import ModelIDamage
 
@@ -21,7 +21,7 @@ E, R_D = 200000.0, 0.05                      # MPa; nu = 0: no compressive princ
 ONSET = np.sqrt(2 * R_D / E)                  # strain at which damage starts in uniaxial strain
 
 
-def main(outdir="."):
+def main(outdir="results/examples"):
     bar = {"length": 20.0, "area": 1.0, "end_displacement": 2.5 * ONSET * 20.0, "depth": 0.2, "notch": 0.02}
     material = ModelIDamage(E, 0.0, R_D, beta=1.0)
     runs = {"displacement": run_bar(material, 21, step=0.0025, **bar),
@@ -44,4 +44,4 @@ def main(outdir="."):
 
 
 if __name__ == "__main__":
-    main(sys.argv[1] if len(sys.argv) > 1 else ".")
+    main(*sys.argv[1:])

@@ -10,12 +10,12 @@ the stored plus the dissipated energy up to the balance error.
 import sys
 from pathlib import Path
 
-from abrakit.damage.model_two_fe import run_model_two
-from abrakit.damage.specimens import double_notched
+from abrakit import damage
+from abrakit.damage import run_model_two
 
 
 def main(outdir="results/examples"):
-    specimen = double_notched(300)
+    specimen = damage.specimen("double_notched", 300)
     result = run_model_two(specimen, alpha=0.005, steps=100, stop_fraction=0.05, output=Path(outdir) / "model_two",
                            resume=True)
     peak, u_peak = result.peak()

@@ -10,7 +10,7 @@ unloading: its area A_g, shoulders A_s, width w and degree of wear f_ab = (A_g -
 import sys
 from pathlib import Path
 
-from abrakit.scratch.scene import DEMO_SCENE, run_scratch
+from abrakit.scratch import DEMO_SCENE, run_scratch
 
 
 def main(outdir="results/examples"):

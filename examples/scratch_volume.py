@@ -12,7 +12,7 @@ import sys
 from pathlib import Path
 
 from abrakit.io import CurveWriter
-from abrakit.scratch.scene import DEMO_SCENE, run_scratch
+from abrakit.scratch import DEMO_SCENE, run_scratch
 
 TERMS = ("groove", "sink", "shoulders", "prow", "faces", "volume_change", "residual")
 

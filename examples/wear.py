@@ -18,7 +18,9 @@ def main(outdir="results/examples"):
                                           strict=True):
             out.write(theta_200um=theta, seed_e7_m3_per_s=seed * 1e7, ours_e7_m3_per_s=ours * 1e7,
                       deviation_percent=100 * dev)
-    print(wear.demo())
+    print(f"{'material':32s} {'seed':>6s} {'ours':>7s} {'dev %':>6s}   [1e-7 m3/s]")
+    for label, seed, ours, dev in zip(table["label"], table["seed"], table["ours"], table["deviation"], strict=True):
+        print(f"{label:32s} {seed * 1e7:6.2f} {ours * 1e7:7.3f} {100 * dev:+6.2f}")
     print(f"written: {path}")
     return table
 

@@ -13,12 +13,11 @@ from abrakit.materials import (
     finite_difference_tangent,
     pure_shear,
     ramp,
-    softening_law,
     uniaxial_strain,
     uniaxial_stress,
 )
 from abrakit.materials.anisotropic_damage import SURFACES, ProjectedBandWidth
-from abrakit.materials.softening_laws import max_band_width
+from abrakit.materials.softening_laws import max_band_width, softening_law
 
 E, NU, SIGMA_C, TAU_C, G_I, G_II = 1000.0, 0.25, 30.0, 20.0, 0.5, 0.8
 LAWS = ("linear", "exponential")

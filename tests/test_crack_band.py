@@ -13,7 +13,8 @@ from abrakit.fem import Dirichlet
 from abrakit.fem.kinematics import vector_basis
 from abrakit.fem.pathfollow import PathControl
 from abrakit.fem.solver import Solver, StepControl, StepFailed
-from abrakit.materials import AnisotropicSofteningDamage, projected_band_width
+from abrakit.materials import AnisotropicSofteningDamage
+from abrakit.materials.anisotropic_damage import projected_band_width
 
 
 def run(solver, **options):

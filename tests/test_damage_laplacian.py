@@ -6,8 +6,8 @@ import skfem
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from abrakit.damage import element_laplacian, face_neighbours, ghost_centres, mirror_points, taylor_matrix
-from abrakit.damage.laplacian import demo, derivative_names, unit_cube_mesh
+from abrakit.damage import element_laplacian, face_neighbours
+from abrakit.damage.laplacian import derivative_names, ghost_centres, mirror_points, taylor_matrix, unit_cube_mesh
 
 DIM = {"line": 1, "tri": 2, "quad": 2, "tet": 3, "hex": 3}
 
@@ -443,8 +443,3 @@ def test_greedy_selection_also_works_on_quadrilaterals():
     f, _, hess = random_quadratic(2, seed=2)
     assert lap.n_fallback == 0
     assert np.allclose(lap(f(lap.centres))[interior(mesh)], np.trace(hess), atol=1e-9)
-
-
-def test_demo_reports_exactness_and_no_fallback():
-    text = demo()
-    assert "fallbacks 0" in text and "quads" in text

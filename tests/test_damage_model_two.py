@@ -14,13 +14,13 @@ import pytest
 from abrakit.damage import metrics as M
 from abrakit.damage.model_two_fe import (
     default_material,
-    demo,
     f_bar_of,
     rate_limit_work,
     run_model_two,
 )
 from abrakit.damage.specimens import double_notched, sharp_notch
-from abrakit.fem import NewtonOptions, StepControl, load_checkpoint
+from abrakit.fem import NewtonOptions, StepControl
+from abrakit.fem.output import load_checkpoint
 from abrakit.io import CurveWriter, read_curve
 from abrakit.materials import TABLE_7_2
 
@@ -197,11 +197,6 @@ def test_default_material_is_table_7_2():
     assert m.integration == "implicit" and m.damage_energy == "full"
     state = m.initial_state((2, 3))
     assert np.all(f_bar_of(state) == 1.0)
-
-
-def test_demo_runs():
-    text = demo()
-    assert "Model II" in text and "peak force" in text
 
 
 def test_arc_length_follows_model_two_to_fracture_like_displacement_control(reference):

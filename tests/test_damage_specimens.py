@@ -48,7 +48,7 @@ def test_symmetry_lines_hold_the_right_nodes():
     x_held = held_y[held_y % 2 == 0]
     assert x_held.size == 1 and np.allclose(sp.basis.doflocs[:, x_held].ravel(), [50.0, 0.0])
     assert np.all(np.isfinite(xy))
-    plate = S.plate_with_hole(300)
+    plate = S.plate_with_hole_specimen(300)
     dofs = {c.dofs.size for c in plate.dirichlet}
     assert len(plate.dirichlet) == 3 and min(dofs) > 5
 
@@ -56,7 +56,7 @@ def test_symmetry_lines_hold_the_right_nodes():
 def test_meshes_are_refined_where_the_band_goes():
     area = {}
     # plate: elements touching the ligament y = 0 are smaller than those touching the top edge
-    sp = S.plate_with_hole("coarse")
+    sp = S.plate_with_hole_specimen("coarse")
     a, c = element_areas(sp.plane_mesh), sp.plane_mesh.p[:, sp.plane_mesh.t].mean(axis=1)
     area["plate"] = a[c[1] < 1.0].mean() / a[c[1] > 40.0].mean()
     # sharp notch: elements on the ligament vs near the grip
@@ -83,7 +83,7 @@ def test_double_notch_geometry():
 
 
 def test_plate_and_sharp_notch_areas():
-    plate = S.plate_with_hole("coarse")
+    plate = S.plate_with_hole_specimen("coarse")
     # straight chords along the hole cut off a little: area within 0.1 % of 50^2 - pi 10^2 / 4
     assert element_areas(plate.plane_mesh).sum() == pytest.approx(2500 - np.pi * 25, rel=1e-3)
     assert element_areas(S.sharp_notch("coarse").plane_mesh).sum() == pytest.approx(50.0 * 20.0)
@@ -106,17 +106,17 @@ def test_elastic_stiffness_converges_with_the_mesh(name):
 
 def test_plate_plane_strain_stiffer_than_the_extruded_plate():
     """The seed's 3D plate (one hex layer, free faces) behaves as plane stress: about 1/(1 - nu^2) softer."""
-    k_strain = elastic_stiffness(S.plate_with_hole(300))
-    k_3d = elastic_stiffness(S.plate_with_hole(300, formulation="extruded"))
+    k_strain = elastic_stiffness(S.plate_with_hole_specimen(300))
+    k_3d = elastic_stiffness(S.plate_with_hole_specimen(300, formulation="extruded"))
     ratio = k_strain / k_3d
     assert 1.03 < ratio < 1.0 / (1 - 0.33**2) + 0.01
 
 
 def test_bad_levels_and_options():
     with pytest.raises(ValueError, match="level"):
-        S.plate_with_hole("huge")
+        S.plate_with_hole_specimen("huge")
     with pytest.raises(TypeError, match="level"):
-        S.plate_with_hole(1000.0)
+        S.plate_with_hole_specimen(1000.0)
     with pytest.raises(ValueError, match="level"):
         S.double_notched(10)
     with pytest.raises(ValueError, match="formulation"):
@@ -130,7 +130,7 @@ def test_bad_levels_and_options():
 def test_plot_field_mirrors_the_model():
     import matplotlib.pyplot as plt
 
-    sp = S.plate_with_hole(300)
+    sp = S.plate_with_hole_specimen(300)
     fig, ax = plt.subplots()
     S.plot_field(sp, np.linspace(0, 1, sp.elements), ax, colorbar=False)
     assert len(ax.collections) == 4  # quarter model shown whole

@@ -1,24 +1,11 @@
-"""Clumps (rigid multi-sphere grains), 2D disks, reproducibility, VTU/CSV output and the demo."""
+"""Clumps (rigid multi-sphere grains), 2D disks, reproducibility, VTU/CSV output."""
 
 import numpy as np
 import pytest
 
-from abrakit.dem import (
-    HistoryWriter,
-    Linear,
-    Particles,
-    Simulation,
-    VtuWriter,
-    Walls,
-    callbacks,
-    clump_particles,
-    demo,
-    dense_packing,
-    dyad,
-    make_clumps,
-    peanut,
-    settling,
-)
+from abrakit.dem import Linear, Particles, Simulation, Walls, dense_packing, settling
+from abrakit.dem.clumps import clump_particles, dyad, make_clumps, peanut
+from abrakit.dem.output import HistoryWriter, VtuWriter, callbacks
 from abrakit.dem.state import sphere_mass
 from abrakit.io import read_curve
 
@@ -119,11 +106,6 @@ def test_vtu_and_history_output(tmp_path):
     curve = read_curve(tmp_path / "history.csv")
     assert curve["step"].tolist() == [250.0, 300.0]
     assert np.all(curve["kinetic"] >= 0)
-
-
-def test_demo_summarises():
-    text = demo()
-    assert "restitution" in text and "t* =" in text and "wave speed" in text and "particle-steps/s" in text
 
 
 def test_history_without_energy_tracking_leaves_the_energy_out_or_refuses(tmp_path):

@@ -19,7 +19,7 @@ def test_series_stiffness_eq_4_11():
     np.testing.assert_array_equal(series_stiffness([0.0, 2e6, np.inf], [1e6, 2e6, 3e6]), [0.0, 1e6, 3e6])
     assert series_stiffness(np.zeros(0), np.zeros(0)).shape == (0,)
     for bad in (np.nan, -1.0):
-        with pytest.raises(ValueError, match="kb must lie in"):
+        with pytest.raises(ValueError, match="k_b must lie in"):
             series_stiffness([1e6, 1e6], [1e6, bad])
 
 

@@ -3,15 +3,8 @@
 import numpy as np
 import pytest
 
-from abrakit.dem import (
-    Particles,
-    Simulation,
-    bonded_chain_wave,
-    bonded_pair,
-    install_contact_bonds,
-    install_parallel_bonds,
-    rolling_sphere,
-)
+from abrakit.dem import Particles, Simulation, bonded_chain_wave, bonded_pair, install_contact_bonds, rolling_sphere
+from abrakit.dem.bonds import install_parallel_bonds
 
 
 @pytest.mark.parametrize("mu, v0", [(0.3, 1.0), (0.1, 0.5)])

@@ -3,7 +3,8 @@
 import numpy as np
 import pytest
 
-from abrakit.dem import HertzMindlin, Particles, Simulation, Walls, sphere_wall_impact, two_sphere_impact
+from abrakit.dem import HertzMindlin, Particles, Simulation, Walls, two_sphere_impact
+from abrakit.dem.scenes import sphere_wall_impact
 
 SCENES = [two_sphere_impact, sphere_wall_impact]
 

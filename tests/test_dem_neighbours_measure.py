@@ -5,22 +5,11 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from abrakit.dem import (
-    Linear,
-    Particles,
-    Simulation,
-    Walls,
-    box_strain,
-    candidate_pairs,
-    contact_density,
-    coordination_number,
-    dense_packing,
-    love_weber_stress,
-    porosity,
-    wall_stress,
-)
-from abrakit.dem.neighbours import transfer_history
+from abrakit.dem import Linear, Particles, Simulation, Walls, coordination_number, dense_packing, porosity
+from abrakit.dem.measure import box_strain, contact_counts, love_weber_stress, wall_stress
+from abrakit.dem.neighbours import candidate_pairs, transfer_history
 from abrakit.dem.state import ContactSet
+from abrakit.identification import measured_contact_density
 
 
 @settings(max_examples=25, deadline=None)
@@ -92,7 +81,7 @@ def test_fabric_of_a_lattice():
     assert coordination_number(sim) == pytest.approx(6 * 3 / 4)          # Z = 2C/N, C = 3 m² (m − 1)
     assert coordination_number(sim, mechanical=True) == pytest.approx(4.5)
     V = sim.walls.box_volume()
-    assert contact_density(sim, V) == pytest.approx(3 * 16 * 3 / V)      # Eq. (5.29)
+    assert measured_contact_density(contact_counts(sim).sum() / 2, V) == pytest.approx(3 * 16 * 3 / V)  # (5.29)
     assert porosity(sim, V) == pytest.approx(1 - 64 * 4 / 3 * np.pi * 0.01**3 / V)
 
 

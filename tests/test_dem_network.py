@@ -3,9 +3,10 @@
 import numpy as np
 import pytest
 
-from abrakit.dem import Particles, Periodic, Simulation, elastic_probe, love_weber_stress, relax
-from abrakit.dem.network import affine_stiffness, network_stiffness
-from abrakit.dem.periodic import VOIGT, elastic_constants, voigt_strain
+from abrakit.dem import Particles, Periodic, Simulation, elastic_probe, relax
+from abrakit.dem.measure import love_weber_stress
+from abrakit.dem.network import affine_network_stiffness, network_stiffness
+from abrakit.dem.periodic import VOIGT, ElasticConstants, voigt_strain
 
 R, KN = 0.01, 1e6
 
@@ -46,7 +47,7 @@ def test_the_probe_equals_the_exact_network_response(packing, ratio):
     assert probe.E == pytest.approx(exact.E, rel=0.01)
     assert probe.nu == pytest.approx(exact.nu, abs=0.01)
     np.testing.assert_allclose(probe.C, exact.C, atol=0.03 * exact.C11)
-    affine = elastic_constants(affine_stiffness(sim))
+    affine = ElasticConstants.from_stiffness(affine_network_stiffness(sim))
     assert exact.E < affine.E                                   # relaxation softens the affine bound
 
 
@@ -95,7 +96,7 @@ def test_the_stress_right_after_the_jump_is_the_affine_closed_form(packing, rati
     so does the network module's A/V (to round-off). Equilibrium is not needed: the packing is not relaxed."""
     sim = with_springs(packing, ratio, settle=False)
     expected = closed_form_affine(sim)
-    np.testing.assert_allclose(affine_stiffness(sim), expected, rtol=1e-9, atol=1e-9 * expected[0, 0])
+    np.testing.assert_allclose(affine_network_stiffness(sim), expected, rtol=1e-9, atol=1e-9 * expected[0, 0])
     strain = 1e-10                  # 1e-6 opens five of 278 contacts of this unrelaxed packing, 1 % of C11
     C = np.zeros((6, 6))
     rows = tuple(zip(*VOIGT, strict=True))
@@ -126,7 +127,7 @@ def test_simple_cubic_lattice_has_its_analytic_network_stiffness():
         expected = np.diag([KN / 2 / ell] * 3 + [kt / 2 / (2 * ell)] * 3)
         exact = network_stiffness(sim)
         np.testing.assert_allclose(exact.C, expected, atol=1e-9 * expected[0, 0])
-        np.testing.assert_allclose(affine_stiffness(sim), expected, atol=1e-9 * expected[0, 0])
+        np.testing.assert_allclose(affine_network_stiffness(sim), expected, atol=1e-9 * expected[0, 0])
 
 
 def test_elastic_constants_of_an_isotropic_stiffness_are_exact():
@@ -136,16 +137,16 @@ def test_elastic_constants_of_an_isotropic_stiffness_are_exact():
     C[:3, :3] = lam
     C[np.arange(3), np.arange(3)] += 2 * mu
     C[np.arange(3, 6), np.arange(3, 6)] = mu
-    out = elastic_constants(C)
+    out = ElasticConstants.from_stiffness(C)
     assert out.E == pytest.approx(E) and out.nu == pytest.approx(nu) and out.anisotropy < 1e-14
     assert out.bulk == pytest.approx(lam + 2 * mu / 3) and out.shear == pytest.approx(mu)
     assert out.C11 == pytest.approx(lam + 2 * mu) and out.C12 == pytest.approx(lam)
     with pytest.raises(ValueError, match="6, 6"):
-        elastic_constants(np.eye(3))
+        ElasticConstants.from_stiffness(np.eye(3))
     with pytest.raises(ValueError, match="finite"):
-        elastic_constants(np.full((6, 6), np.nan))
+        ElasticConstants.from_stiffness(np.full((6, 6), np.nan))
     with pytest.raises(ValueError, match="non-zero"):
-        elastic_constants(np.zeros((6, 6)))           # no NaN from finite input
+        ElasticConstants.from_stiffness(np.zeros((6, 6)))           # no NaN from finite input
 
 
 def test_velocity_driven_motion_loads_the_springs_as_the_jump_does(packing):
@@ -191,7 +192,7 @@ def test_network_stiffness_refuses_what_it_cannot_compute():
     with pytest.raises(ValueError, match="periodic"):
         network_stiffness(walled)
     with pytest.raises(ValueError, match="periodic"):
-        affine_stiffness(walled)
+        affine_network_stiffness(walled)
 
 
 def test_the_probe_converges_to_the_exact_response_as_its_strain_shrinks(packing):

@@ -3,14 +3,9 @@
 import numpy as np
 import pytest
 
-from abrakit.dem import (
-    Particles,
-    Periodic,
-    Simulation,
-    elastic_probe,
-    install_parallel_bonds,
-    love_weber_stress,
-)
+from abrakit.dem import Particles, Periodic, Simulation, elastic_probe
+from abrakit.dem.bonds import install_parallel_bonds
+from abrakit.dem.measure import love_weber_stress
 
 R, KN = 0.01, 1e6
 

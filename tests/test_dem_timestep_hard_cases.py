@@ -5,18 +5,9 @@ import warnings
 import numpy as np
 import pytest
 
-from abrakit.dem import (
-    HertzMindlin,
-    Linear,
-    ParticleEscapeError,
-    Particles,
-    Simulation,
-    TimeStepError,
-    Walls,
-    critical_time_step,
-    energy_balance,
-)
-from abrakit.dem.simulation import MAX_TRAVEL
+from abrakit.dem import HertzMindlin, Linear, Particles, Simulation, TimeStepError, Walls, energy_balance
+from abrakit.dem.integrate import critical_time_step
+from abrakit.dem.simulation import MAX_TRAVEL, ParticleEscapeError
 
 
 def resting_sphere(**kw):
@@ -70,7 +61,8 @@ def test_divergence_is_stopped_with_a_clear_error():
     """Last line of defence: if the leap-frog diverges anyway (here the private step is forced beyond 2/ω on a
     bonded pair), the run stops at the next neighbour check — with a time-step error, or, had positions become
     non-finite first, a FloatingPointError — instead of carrying NaNs."""
-    from abrakit.dem import VerletList, install_contact_bonds
+    from abrakit.dem import install_contact_bonds
+    from abrakit.dem.neighbours import VerletList
 
     p = Particles.spheres([[0, 0, 0], [0.02, 0, 0]], 0.01, 2650.0, kn=2e5, v=[[0, 0, 0], [0.01, 0, 0]])
     sim = Simulation(p, skin=0.001)
@@ -193,7 +185,8 @@ def test_huge_stiffness_ratio_is_stable():
 def test_allowed_unstable_step_is_kept_with_one_warning_and_then_stopped():
     """``dt_policy="allow"`` keeps a step above the critical one (to study the instability) and warns once; the
     diverging pair leaves its domain within a few dozen steps and the run stops with a clear error."""
-    from abrakit.dem import ParticleEscapeError, install_contact_bonds
+    from abrakit.dem import install_contact_bonds
+    from abrakit.dem.simulation import ParticleEscapeError
 
     p = Particles.spheres([[0, 0, 0], [0.02, 0, 0]], 0.01, 2650.0, kn=2e5, v=[[0, 0, 0], [0.01, 0, 0]])
     dt = 3.0 * np.sqrt(p.mass[0] / 2 / 1e5)

@@ -456,8 +456,3 @@ def test_explicit_step_overshoots_beyond_the_relaxation_time_implicit_never():
             assert PLAST.yield_function(eps, explicit, VISCO_PLAST) == pytest.approx((1 - q) * phi0)
         else:  # so far that the stress reverses sign under tensile strain
             assert PLAST.stress(eps, explicit) < 0
-
-
-def test_demo_summarises():
-    text = ev.demo()
-    assert "observed orders" in text and "plasticity" in text and "damage" in text

@@ -8,7 +8,8 @@ benchmark ``benchmarks/bench_experiments_elastic.py`` (see ``LARGE``)."""
 import numpy as np
 import pytest
 
-from abrakit.dem import Particles, Simulation, Walls, love_weber_stress
+from abrakit.dem import Particles, Simulation, Walls, unbalanced_force_ratio
+from abrakit.dem.measure import love_weber_stress
 from abrakit.experiments import closed_form_checks as cfc
 from abrakit.experiments.compression import (
     CompressionCurve,
@@ -20,12 +21,11 @@ from abrakit.experiments.compression import (
 )
 from abrakit.experiments.specimen import (
     CLUMP_MEMBER_RADIUS,
-    Material,
-    Specimen,
+    DemMaterial,
+    DemSpecimen,
     SpecimenSpec,
     genesis,
     members,
-    unbalanced_force_ratio,
 )
 
 # E [Pa] and ν of large specimens (wall scheme): mean of five 2400-sphere specimens (seeds 0-4), σ_c = 1 MPa,
@@ -172,8 +172,8 @@ def test_specimen_spec_refuses_bad_input(kwargs, name):
 
 def test_material_needs_both_bond_strengths():
     with pytest.raises(ValueError, match="both"):
-        Material(bond_normal_strength=1.0)
-    assert Material().with_bonds(2.0, 3.0).bonded
+        DemMaterial(bond_normal_strength=1.0)
+    assert DemMaterial().with_bonds(2.0, 3.0).bonded
 
 
 # ---------------------------------------------------------------------------------------------- genesis
@@ -206,7 +206,7 @@ def test_genesis_is_reproducible_and_cached(tmp_path, lenient_acceptance):
     a = genesis(spec, cache=tmp_path)
     b = genesis(spec, cache=False)
     np.testing.assert_array_equal(a.x, b.x)
-    c = Specimen.load(next(tmp_path.glob("specimen_*.npz")))
+    c = DemSpecimen.load(next(tmp_path.glob("specimen_*.npz")))
     np.testing.assert_array_equal(a.x, c.x)
     assert c.spec == spec and c.info == a.info and a.info["consolidation_accepted"]
     assert SpecimenSpec(n_particles=60, seed=5, aspect=1.0).key() != spec.key()

@@ -14,7 +14,6 @@ from abrakit.experiments.contacting import (
     contact_census,
     contacting_case,
     count_touching,
-    demo,
     fit_contact_coefficient,
     fit_mixture_exponent,
     floor_profile,
@@ -267,11 +266,6 @@ def test_a_small_mixture_case_counts_both_grain_types():
     assert census["coarse"]["count"] + census["fine"]["count"] == census["all"]["count"]
     assert census["fine"]["diameter"] == pytest.approx(D / 2)
     assert out["bed"]["theta_coarse_actual"] == pytest.approx(0.5, abs=0.05)
-
-
-def test_demo_reports_the_count():
-    text = demo()
-    assert "N_c D^2 =" in text and "Eq. 8.7" in text
 
 
 # --- the fits -----------------------------------------------------------------------------------------------

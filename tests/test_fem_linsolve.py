@@ -6,18 +6,8 @@ import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 import skfem
 
-from abrakit.fem import (
-    Assembler,
-    DirectSolver,
-    Dirichlet,
-    Kinematics,
-    LinearSolveError,
-    Solver,
-    StepControl,
-    pardiso_available,
-    vector_basis,
-)
-from abrakit.fem.linsolve import kept_factor_gmres
+from abrakit.fem import Assembler, DirectSolver, Dirichlet, Kinematics, Solver, StepControl, vector_basis
+from abrakit.fem.linsolve import LinearSolveError, kept_factor_gmres, pardiso_available
 from abrakit.materials import LinearElastic, VonMisesPlasticity
 
 BACKENDS = ["superlu", "dense", "banded"] + (["pardiso"] if pardiso_available() else [])

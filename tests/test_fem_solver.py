@@ -15,11 +15,11 @@ from abrakit.fem import (
     StepControl,
     StepFailed,
     boundary_dofs,
-    load_checkpoint,
     meshes,
-    node_row_dofs,
     vector_basis,
 )
+from abrakit.fem.boundary import node_row_dofs
+from abrakit.fem.output import load_checkpoint
 from abrakit.fem.problems import plate_with_hole_problem, thick_cylinder_problem, thick_cylinder_solution
 from abrakit.io import read_curve
 from abrakit.materials import LinearElastic, MaterialResponse, VonMisesPlasticity
@@ -497,3 +497,49 @@ def test_node_row_dofs_picks_the_nearest_row_of_one_component():
     assert np.array_equal(np.sort(dofs), np.sort(np.asarray(basis.nodal_dofs)[1, nodes]))
     with pytest.raises(ValueError, match="components"):
         node_row_dofs(basis, "z", 1.0, "x")
+
+
+def test_line_search_halves_a_correction_that_does_not_lower_the_residual():
+    """R(x) = atan(x) from x = 2: the Newton correction overshoots to |R| = 1.30 > atan(2); the search halves it
+    once (Armijo: |R(u + s du)| <= (1 - 1e-4 s) |R(u)|) and returns the evaluation at the accepted point."""
+    from abrakit.fem.solver import LineSearch
+
+    calls = []
+
+    def evaluate(x):
+        calls.append(x.copy())
+        return None, np.arctan(x)
+
+    u, free = np.array([2.0]), np.array([0])
+    residual = np.arctan(u)
+    du = -residual * (1.0 + u**2)                                       # Newton: -R / R'
+    s, trial, evaluation = LineSearch()(evaluate, u, du, free, residual)
+    assert s == 0.5 and trial[0] == u[0] + 0.5 * du[0] and len(calls) == 2
+    assert abs(evaluation[1][0]) <= (1 - 0.5e-4) * abs(residual[0])
+    s, trial, _ = LineSearch(max_backtracks=0)(evaluate, u, du, free, residual)
+    assert s == 1.0                                                      # no halving allowed: the full step
+    with pytest.raises(ValueError, match="max_backtracks"):
+        LineSearch(max_backtracks=-1)
+    with pytest.raises(TypeError, match="line_search"):
+        Solver(vector_basis(meshes.plate_with_hole()), LinearElastic(1.0, 0.3), line_search="backtracking")
+
+
+def test_a_failed_newton_step_carries_the_diagnosis_of_its_last_iterate():
+    """``diagnose(reason, iterate)`` is called once per failed step with the step's last evaluated iterate; its
+    answer is appended to the failure's reason, and hence to StepFailed's message."""
+    mesh = skfem.MeshQuad.init_tensor(np.linspace(0, 1, 3), np.linspace(0, 1, 3)).with_boundaries(
+        {"bottom": lambda x: x[1] < 1e-9, "top": lambda x: x[1] > 1 - 1e-9})
+    basis = vector_basis(mesh)
+    seen = []
+
+    def diagnose(reason, iterate):
+        seen.append(iterate)
+        return "named"
+
+    bcs = [Dirichlet.on(basis, "bottom"), Dirichlet.on(basis, "top", "y", 0.5, name="top")]
+    solver = Solver(basis, VonMisesPlasticity(210000.0, 0.3, 100.0, 0.0), bcs, diagnose=diagnose,
+                    newton=NewtonOptions(max_iterations=1), control=StepControl(initial=1.0, maximum=1.0,
+                                                                                minimum=0.5))
+    with pytest.raises(StepFailed, match=r"\[named\]"):
+        solver.run(progress=False)
+    assert seen and all(it is not None and it.residual.shape == (basis.N,) for it in seen)

@@ -44,3 +44,22 @@ def test_no_two_modules_import_each_other():
             if a.startswith(b + ".") or b.startswith(a + "."):
                 continue
             assert a not in graph.get(b, set()), f"import cycle: {a} <-> {b}"
+
+
+def test_no_two_chapters_import_each_other():
+    """Between the chapter packages and modules the imports run one way (the DEM's contact laws take the series rule
+    of Eq. (4.11) from the identification, which imports nothing of the DEM)."""
+    def chapter(module: str) -> str:
+        parts = module.split(".")
+        return ".".join(parts[:2])
+
+    modules = {module_name(p): p for p in PACKAGE.rglob("*.py")}
+    graph: dict[str, set[str]] = {}
+    for m, p in modules.items():
+        if m.count(".") < 1 or m.split(".")[1].startswith("_"):
+            continue
+        graph.setdefault(chapter(m), set()).update(
+            chapter(t) for t in imports(p) if t in modules and t.count(".") >= 1 and chapter(t) != chapter(m))
+    for a, targets in graph.items():
+        for b in targets:
+            assert a not in graph.get(b, set()), f"the chapters {a} and {b} import each other"

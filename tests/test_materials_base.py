@@ -10,16 +10,15 @@ from hypothesis.extra.numpy import arrays
 
 from abrakit import tensors as T
 from abrakit.materials import (
-    DEVIATORIC,
     LinearElastic,
     Material,
     MaterialResponse,
     ModelIDamage,
     ModelIIDamage,
     VonMisesPlasticity,
-    deviator,
     finite_difference_tangent,
 )
+from abrakit.materials.base import DEVIATORIC, deviator
 
 E, NU, R_P, K_H = 200000.0, 0.3, 60.0, 8000.0
 

@@ -6,17 +6,15 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 from hypothesis.extra.numpy import arrays
 
-from abrakit.materials import (
-    ModelIDamage,
-    ModelIIDamage,
+from abrakit.materials import ModelIDamage, ModelIIDamage, finite_difference_tangent, ramp, uniaxial_strain
+from abrakit.materials.model_one import damage_function_update, damage_indicator
+from abrakit.materials.model_two import (
+    damage_function,
+    damage_sweep,
+    driving_forces,
     effective_damage_function,
     erve_strains,
-    finite_difference_tangent,
-    ramp,
-    uniaxial_strain,
 )
-from abrakit.materials.model_one import damage_function_update, damage_indicator
-from abrakit.materials.model_two import damage_function, damage_sweep, driving_forces
 
 E, R_P, K_H = 200000.0, 60.0, 8000.0
 

@@ -4,19 +4,17 @@ import numpy as np
 import pytest
 
 from abrakit.materials import (
-    DriverError,
     LinearElastic,
     ModelIDamage,
     ModelIIDamage,
     VonMisesPlasticity,
     cycles,
-    demo,
-    drive,
     pure_shear,
     ramp,
     uniaxial_strain,
     uniaxial_stress,
 )
+from abrakit.materials.driver import DriverError, drive
 
 E, NU = 200000.0, 0.3
 
@@ -92,8 +90,3 @@ def test_bad_driver_input():
         drive(LinearElastic(E, NU), np.zeros((3, 6)), stress_controlled=[True, False])
     with pytest.raises(ValueError, match="jacobian"):
         drive(LinearElastic(E, NU), np.zeros((3, 6)), jacobian="broyden")
-
-
-def test_demo_runs_and_reports_the_closed_forms():
-    text = demo()
-    assert "sqrt(2 r_d E)" in text and "error" in text

@@ -6,7 +6,6 @@ import pytest
 from abrakit.materials import (
     VonMisesPlasticity,
     cycles,
-    drive,
     plane_strain_tension,
     pure_shear,
     ramp,
@@ -16,6 +15,7 @@ from abrakit.materials import (
     uniaxial_yield_stress,
 )
 from abrakit.materials.base import deviator
+from abrakit.materials.driver import drive
 
 E, NU, R_P, K_H = 200000.0, 0.3, 60.0, 8000.0
 SIGMA_0 = np.sqrt(1.5) * R_P

@@ -1,7 +1,25 @@
-"""The reproduction table: every claim has a verdict; missing results say how to produce them."""
+"""The reproduction table: every claim has a verdict; missing results say how to produce them.
 
-from abrakit import reproduction as R
+The claims from stored studies are built by the checkout's ``benchmarks/reproduction.py``; the closed-form ones by
+the package (``abrakit.reproduction``), which reads nothing of the checkout.
+"""
+
+import ast
+import importlib.util
+import inspect
+import math
+from pathlib import Path
+
+import pytest
+
+from abrakit import reproduction as P
 from abrakit import wear
+
+ROOT = Path(__file__).resolve().parent.parent
+spec = importlib.util.spec_from_file_location("abrakit_benchmarks_reproduction",
+                                              ROOT / "benchmarks" / "reproduction.py")
+R = importlib.util.module_from_spec(spec)
+spec.loader.exec_module(R)
 
 
 def test_every_claim_has_a_verdict_and_table_8_4_from_the_seed_inputs_is_reproduced():
@@ -59,3 +77,35 @@ def test_anisotropic_claims_read_the_worst_bar_and_the_finest_dcb(tmp_path):
     claims = [c for c in R.status(tmp_path) if c.chapter == "anisotropic_damage"]
     assert claims[0].verdict == "reproduced" and "0.30%" in claims[0].ours
     assert "sigma_c = 30 MPa, h = 0.125 mm" in claims[1].quantity and claims[1].verdict == "reproduced"
+
+
+def test_the_package_reads_nothing_of_the_checkout():
+    tree = ast.parse(inspect.getsource(P))
+    imported = {alias.name for node in ast.walk(tree) if isinstance(node, ast.Import | ast.ImportFrom)
+                for alias in node.names} | {node.module for node in ast.walk(tree) if isinstance(node, ast.ImportFrom)}
+    names = {node.id for node in ast.walk(tree) if isinstance(node, ast.Name)}
+    assert not imported & {"pathlib", "Path", "os", "subprocess", "read_json", "io"}
+    assert not names & {"__file__", "open", "Path"}
+    assert not hasattr(P, "status") and not hasattr(P, "stored_result")
+
+
+def test_recomputed_claims_are_the_tables_closed_form_rows(tmp_path):
+    ours = P.recomputed()
+    assert [c.chapter for c in ours] == ["wear"] + ["fatigue"] * 6
+    assert ours[0].verdict == "reproduced"
+    assert [c for c in R.status(tmp_path) if c.chapter in ("wear", "fatigue")] == ours
+
+
+@pytest.mark.parametrize("deviation, expected", [(0.0, "reproduced"), (-0.01, "reproduced"), (0.0101, "close"),
+                                                 (-0.05, "close"), (0.0501, "differs")])
+def test_verdict_bands(deviation, expected):
+    assert P.verdict(deviation) == expected
+    assert P.verdict(0.1, close=0.15) == "close" and P.verdict(0.0, close=0.0, reproduced=0.0) == "reproduced"
+
+
+@pytest.mark.parametrize("kwargs, name", [({"deviation": math.nan}, "deviation"), ({"deviation": None}, "deviation"),
+                                          ({"deviation": 0.0, "close": -0.1}, "close"),
+                                          ({"deviation": 0.0, "reproduced": 0.1}, "reproduced")])
+def test_verdict_refuses_bad_input_by_name(kwargs, name):
+    with pytest.raises((ValueError, TypeError), match=name):
+        P.verdict(**kwargs)

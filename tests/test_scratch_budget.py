@@ -11,14 +11,14 @@ import pytest
 
 from abrakit.fem import Kinematics
 from abrakit.scratch.budget import BoundaryFaces, steady_rates, volume_budget
+from abrakit.scratch.readouts import groove_along
+from abrakit.scratch.run import run_scratch
 from abrakit.scratch.scene import (
     SEED_FORMULATION,
     ST52,
     ScratchScene,
     SpecimenMesh,
     build_specimen,
-    groove_along,
-    run_scratch,
 )
 
 TINY_BLOCK = (0.06, 0.015, 0.08)

@@ -6,14 +6,8 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 from scipy.spatial.transform import Rotation
 
-from abrakit.scratch import (
-    ConicalIndenter,
-    SphericalIndenter,
-    contact_response,
-    initial_state,
-    penalty_from_stiffness,
-)
-from abrakit.scratch.contact import OPEN, SLIP, STICK
+from abrakit.scratch import ConicalIndenter, SphericalIndenter, contact_response, initial_state
+from abrakit.scratch.contact import OPEN, SLIP, STICK, penalty_from_stiffness
 
 R = 0.05
 C_N = 2.1e8            # E/h for steel and h = 1 um, N/mm^3

@@ -6,7 +6,8 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from abrakit.scratch import groove_metrics, profile_from_surface_nodes, removed_material
+from abrakit.scratch import groove_metrics
+from abrakit.scratch.groove import profile_from_surface_nodes, removed_material
 
 
 def v_groove(depth=2.0, half_width=10.0, pile=1.0, pile_width=5.0, far=30.0):

@@ -7,17 +7,9 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from abrakit.scratch import (
-    ConicalIndenter,
-    FineZone,
-    ScratchPath,
-    SphericalIndenter,
-    check_path,
-    demo,
-    effective_modulus,
-    hertz_depth,
-    hertz_sphere,
-)
+from abrakit.scratch import ConicalIndenter, SphericalIndenter, hertz_sphere
+from abrakit.scratch.hertz import effective_modulus, hertz_depth
+from abrakit.scratch.indenters import FineZone, ScratchPath, check_path
 
 R = 0.05
 TIP = np.array([0.01, -0.002, 0.03])
@@ -227,8 +219,3 @@ def test_hertz_with_a_quartz_grain_and_arrays():
         hertz_sphere(210000.0, 0.5, 0.05, 0.001)
     with pytest.raises(ValueError, match="d"):
         hertz_sphere(210000.0, 0.3, 0.05, -0.001)
-
-
-def test_demo_runs_and_reports_the_friction_limit():
-    text = demo()
-    assert "|t_T|/p = 0.1000, slip" in text and "stick" in text and "Hertz" in text

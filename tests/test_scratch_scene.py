@@ -9,19 +9,19 @@ import math
 import numpy as np
 import pytest
 
-from abrakit.fem import Dirichlet, NewtonOptions, Solver, StepContext, pardiso_available
+from abrakit.fem import Dirichlet, NewtonOptions, Solver
+from abrakit.fem.linsolve import pardiso_available
+from abrakit.fem.solver import StepContext
 from abrakit.scratch import SphericalIndenter
 from abrakit.scratch.contact import SLIP, STICK
 from abrakit.scratch.contact_term import IndenterContact, nodal_areas, surface_facets
+from abrakit.scratch.run import ScratchDiagnosis, run_scratch, scene_linear_solver
+from abrakit.scratch.run_hertz import hertz_indentation
 from abrakit.scratch.scene import (
     SEED_FORMULATION,
-    LineSearchSolver,
     ScratchScene,
     SpecimenMesh,
     build_specimen,
-    hertz_indentation,
-    run_scratch,
-    scene_linear_solver,
     st52_material,
     zoned_axis,
 )
@@ -281,7 +281,7 @@ def test_plastic_scratch_leaves_a_groove_with_shoulders():
 
 def test_groove_balance_accounts_for_the_section_exactly(elastic_slide):
     """A_s - A_g of the material section equals int tr(eps) dA - int du_z/dz dA (divergence theorem)."""
-    from abrakit.scratch.scene import groove_balance
+    from abrakit.scratch.readouts import groove_balance
 
     b = groove_balance(elastic_slide)
     assert b.surface_change == pytest.approx(b.volume_change - b.carried_forward, rel=1e-12, abs=1e-18)
@@ -290,9 +290,9 @@ def test_groove_balance_accounts_for_the_section_exactly(elastic_slide):
 
 
 def test_line_search_trials_start_from_the_current_iterate(monkeypatch):
-    """Every trial point of the backtracking line search lies on the ray u + s du from the iterate u that Newton
-    passes (s = 1, 1/2, 1/4, ...), also in iterations whose evaluation came from the trial cache."""
-    from abrakit.fem.solver import Solver
+    """Every trial point of the scene's backtracking line search lies on the ray u + s du from the iterate u that
+    Newton passes (s = 1, 1/2, 1/4, ...), also in iterations whose evaluation is the search's accepted point."""
+    from abrakit.fem.solver import LineSearch, Solver
 
     evaluated, checked = [], []
     plain_evaluate = Solver.evaluate
@@ -301,22 +301,22 @@ def test_line_search_trials_start_from_the_current_iterate(monkeypatch):
         evaluated.append(np.array(u, copy=True))
         return plain_evaluate(self, u, state_old, ctx)
 
-    plain_correction = LineSearchSolver._correction
+    plain_search = LineSearch.__call__
 
-    def spy_correction(self, response, extra_K, residual, new_step, lift=None, u=None):
+    def spy_search(self, evaluate, u, du, free, residual):
         start = len(evaluated)
-        step = plain_correction(self, response, extra_K, residual, new_step, lift=lift, u=u)
-        free = self.constraints.free
-        for trial in evaluated[start:]:
-            offset = trial[free] - u[free]
-            s = float(offset @ step) / float(step @ step)
-            assert s > 0 and np.log2(s) == pytest.approx(round(np.log2(s)), abs=1e-9)
-            np.testing.assert_allclose(offset, s * step, rtol=0, atol=1e-12 * np.max(np.abs(u)))   # round-off of u
+        s, trial, evaluation = plain_search(self, evaluate, u, du, free, residual)
+        for point in evaluated[start:]:
+            offset = point[free] - u[free]
+            t = float(offset @ du) / float(du @ du)
+            assert t > 0 and np.log2(t) == pytest.approx(round(np.log2(t)), abs=1e-9)
+            np.testing.assert_allclose(offset, t * du, rtol=0, atol=1e-12 * np.max(np.abs(u)))   # round-off of u
+        np.testing.assert_array_equal(trial[free], u[free] + s * du)
         checked.append(len(evaluated) - start)
-        return step
+        return s, trial, evaluation
 
     monkeypatch.setattr(Solver, "evaluate", spy_evaluate)
-    monkeypatch.setattr(LineSearchSolver, "_correction", spy_correction)
+    monkeypatch.setattr(LineSearch, "__call__", spy_search)
     scene = ScratchScene(depth=0.0008, slide=0.008, unload=False, mesh=TINY_MESH, size=TINY_BLOCK, indent_steps=3,
                          kinematics="small", bbar=False)
     run_scratch(scene, vtu_every=0)
@@ -455,13 +455,28 @@ def test_a_stopped_scratch_names_its_cause_keeps_its_last_increment_and_resumes(
     assert resumed.groove_unloaded is not None and resumed.increments > rows
 
 
-def test_the_diagnosis_names_an_inverted_element():
-    from abrakit.scratch.scene import st52_material
+def test_the_diagnosis_names_an_inverted_element_a_contact_node_or_the_bulk():
+    from abrakit.fem.solver import Iterate
 
     specimen = build_specimen(RESUME_SCENE)
-    solver = LineSearchSolver(specimen.basis, st52_material("elastic"), specimen.conditions)
-    assert solver.diagnose("det F = -3 <= 0: an element is inverted").startswith("element inversion")
-    assert solver.diagnose("diverging") == "no residual was evaluated"
+    contact = IndenterContact(specimen.basis, RESUME_SCENE.indenter, RESUME_SCENE.path.position, c_N=2e8)
+    diagnose = ScratchDiagnosis(specimen.basis, contact)
+    assert diagnose("det F = -3 <= 0: an element is inverted").startswith("element inversion")
+    assert diagnose("diverging", None) == "no residual was evaluated"
+    u = np.zeros(specimen.basis.N)
+    contact.reset(0.0, u)
+    free = np.arange(specimen.basis.N)
+    ctx = StepContext(1, 0.5, 0.5, 0.5, 0.5, 0, u, u, {}, u)
+    residual = np.zeros_like(u)
+    far = int(np.argmax(np.linalg.norm(contact.reference - RESUME_SCENE.path.position(0.5), axis=1)))
+    residual[contact.dofs[far, 1]] = 1.0                    # the largest residual at a surface node off the tip
+    assert diagnose("diverging", Iterate(u, residual, ctx, free)).startswith("contact: ")
+    assert ", ?, gap" in diagnose("diverging", Iterate(u, residual, ctx, free))     # not evaluated: status "?"
+    contact(u, ctx)
+    assert ", open, gap" in diagnose("diverging", Iterate(u, residual, ctx, free))
+    inside = np.setdiff1d(free, contact.dofs.ravel())[0]
+    residual[inside] = 2.0
+    assert diagnose("diverging", Iterate(u, residual, ctx, free)).startswith("bulk: ")
 
 
 # ---- stick/slip chatter -------------------------------------------------------------------------------------------
@@ -544,11 +559,11 @@ def test_the_faster_increment_control_changes_no_groove_beyond_its_tolerances(mo
     groove areas, 0.02 in f_ab; both volume budgets close at round-off. Measured when the control changed: 160
     against 269 Newton iterations; F_N, F_T, A_g 0.1–0.6 % apart, A_s 2 %, f_ab 0.005. With per-increment means
     the forces of two runs differing only in round-off (one cut back twice) lay 2.7 % apart, slide means 0.6 %."""
-    import abrakit.scratch.scene as scene_module
+    import abrakit.scratch.run as run_module
 
     scene = ScratchScene(depth=0.0008, slide=0.016, mesh=TINY_MESH, size=TINY_BLOCK, unload_steps=2)
     new = run_scratch(scene, vtu_every=0, linear_solver="lu")
-    monkeypatch.setattr(scene_module, "SLIDE_RAMP", 1.0)
+    monkeypatch.setattr(run_module, "SLIDE_RAMP", 1.0)
     before = NewtonOptions(residual_tol=1e-4, increment_tol=1e-3, max_iterations=20, divergence_check_after=10)
     old = run_scratch(scene.with_(indent_steps=20), vtu_every=0, linear_solver="lu", newton=before)
     assert new.newton_iterations < old.newton_iterations
@@ -571,7 +586,7 @@ def test_reused_element_tangents_change_no_groove_beyond_the_newton_tolerance():
     about as many iterations (115 against 114)."""
     from dataclasses import replace
 
-    from abrakit.scratch.scene import SCRATCH_NEWTON
+    from abrakit.scratch.run import SCRATCH_NEWTON
 
     scene = ScratchScene(depth=0.0008, slide=0.008, mesh=TINY_MESH, size=TINY_BLOCK, unload_steps=2)
     kept = run_scratch(scene, vtu_every=0, linear_solver="lu")
@@ -618,7 +633,7 @@ def test_the_second_round_of_speed_ups_changes_no_groove_beyond_the_round_off_sp
     coarse scene, 676 → 632 on the default one) is measured by benchmarks/bench_scratch_speed.py."""
     from dataclasses import replace
 
-    from abrakit.scratch.scene import SCRATCH_NEWTON
+    from abrakit.scratch.run import SCRATCH_NEWTON
 
     scene = ScratchScene(depth=0.0008, slide=0.008, mesh=TINY_MESH, size=TINY_BLOCK, unload_steps=2)
     now = run_scratch(scene, vtu_every=0, linear_solver="pardiso")
@@ -653,14 +668,14 @@ def test_auto_takes_pardiso_at_every_size_and_amg_only_without_it(monkeypatch):
     """On the finer level (131 805 free DOFs) the AMG-preconditioned GMRES did not converge where PARDISO
     factorises in seconds: "auto" keeps the direct solver whenever PARDISO is there, and takes AMG only without
     it above AMG_ABOVE free DOFs (SuperLU below)."""
-    import abrakit.scratch.scene as scene_module
+    import abrakit.scratch.run as run_module
 
     specimen = build_specimen(ScratchScene(depth=0.0008, slide=0.008, mesh=TINY_MESH, size=TINY_BLOCK))
     solver = Solver(specimen.basis, st52_material(), [Dirichlet.on(specimen.basis, "bottom")])
-    monkeypatch.setattr(scene_module, "AMG_ABOVE", 10)                  # the tiny block is "large"
-    monkeypatch.setattr(scene_module, "pardiso_available", lambda: True)
-    assert isinstance(scene_linear_solver(solver, "auto"), scene_module.DirectSolver)
-    monkeypatch.setattr(scene_module, "pardiso_available", lambda: False)
-    assert isinstance(scene_linear_solver(solver, "auto"), scene_module.ReusedPreconditioner)
-    monkeypatch.setattr(scene_module, "AMG_ABOVE", 10**9)
+    monkeypatch.setattr(run_module, "AMG_ABOVE", 10)                  # the tiny block is "large"
+    monkeypatch.setattr(run_module, "pardiso_available", lambda: True)
+    assert isinstance(scene_linear_solver(solver, "auto"), run_module.DirectSolver)
+    monkeypatch.setattr(run_module, "pardiso_available", lambda: False)
+    assert isinstance(scene_linear_solver(solver, "auto"), run_module.ReusedPreconditioner)
+    monkeypatch.setattr(run_module, "AMG_ABOVE", 10**9)
     assert scene_linear_solver(solver, "auto").backend.name == "superlu"

@@ -1,8 +1,14 @@
-"""The book's chapters read stored benchmark results through abrakit.reproduction.stored_result."""
+"""The book's chapters read stored benchmark results through benchmarks/reproduction.py's stored_result."""
 
+import importlib.util
 import json
+from pathlib import Path
 
-from abrakit.reproduction import stored_result
+_spec = importlib.util.spec_from_file_location(
+    "abrakit_benchmarks_reproduction", Path(__file__).resolve().parent.parent / "benchmarks" / "reproduction.py")
+_module = importlib.util.module_from_spec(_spec)
+_spec.loader.exec_module(_module)
+stored_result = _module.stored_result
 
 
 def test_stored_result_reads_the_file(tmp_path):

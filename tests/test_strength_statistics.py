@@ -7,7 +7,8 @@ import pytest
 from scipy import special, stats
 from scipy.integrate import quad
 
-from abrakit.materials import AnisotropicSofteningDamage, StrengthStatistics, softening_law
+from abrakit.materials import AnisotropicSofteningDamage, StrengthStatistics
+from abrakit.materials.softening_laws import softening_law
 from abrakit.materials.strength_statistics import (
     MAX_NORMAL_CV,
     P_RANGE,

@@ -286,9 +286,3 @@ def test_fit_scaling_area_recovers_a_known_area_and_flags_inconsistent_data():
     assert not bad.consistent
     with pytest.raises(ValueError, match="printed_rate must lie in"):
         W.fit_scaling_area(q, -q)
-
-
-def test_demo_summarises_the_table():
-    text = W.demo()
-    assert "114.62 mm2" in text
-    assert "8.07" in text and "0.44" in text and "wedging" in text

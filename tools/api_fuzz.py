@@ -108,16 +108,11 @@ def _callable(obj) -> bool:
 
 
 def public_callables() -> dict[str, object]:
-    """``{"module.name": callable}`` of the public surface: the functions and classes a module lists in its
-    ``__all__`` and defines itself (a subpackage's re-exports are the same objects, fuzzed once). Kernels and
-    helpers are left out of ``__all__`` (most also carry a leading underscore)."""
-    found = {}
-    for module in _modules():
-        for name in getattr(module, "__all__", ()):
-            obj = getattr(module, name)
-            if getattr(obj, "__module__", None) == module.__name__ and _callable(obj):
-                found[f"{module.__name__}.{name}"] = obj
-    return found
+    """``{"module.name": callable}`` of the surface the fuzz guards: every function and class a module defines
+    under a name without a leading underscore, keyed by its defining module. This holds every object the chapter
+    faces list (they re-export the same objects, fuzzed once) and the public names of the implementation modules
+    behind them; kernels carry a leading underscore and are left out."""
+    return unprefixed_callables()
 
 
 def unprefixed_callables() -> dict[str, object]:
@@ -221,9 +216,10 @@ def harvest(tests=("tests",), out: Path = CATALOGUE, merge: bool = False) -> dic
         sys.setprofile(None)
     calls = {k: [c for c in v if len(pickle.dumps(c)) <= MAX_BYTES] for k, v in harvester.calls.items()}
     calls = {k: v for k, v in calls.items() if v}
+    calls = {k: [pickle.dumps(c, protocol=pickle.HIGHEST_PROTOCOL) for c in v] for k, v in calls.items()}
     if merge and out.exists():
-        calls = merged(pickle.loads(out.read_bytes()), calls)
-    out.write_bytes(pickle.dumps(calls, protocol=pickle.HIGHEST_PROTOCOL))
+        calls = merged(pickle.loads(out.read_bytes())["calls"], calls)
+    out.write_bytes(pickle.dumps({"format": 2, "calls": calls}, protocol=pickle.HIGHEST_PROTOCOL))
     return calls
 
 
@@ -233,14 +229,21 @@ def merged(stored: dict, harvested: dict) -> dict:
     valid calls of another test)."""
     out = {name: list(calls) for name, calls in stored.items()}
     for name, calls in harvested.items():
-        known = {pickle.dumps(c) for c in out.get(name, [])}
-        out.setdefault(name, []).extend(c for c in calls if pickle.dumps(c) not in known)
+        known = set(out.get(name, []))
+        out.setdefault(name, []).extend(c for c in calls if c not in known)
     return out
 
 
 def load_catalogue(path: Path = CATALOGUE) -> dict:
     """The harvested calls, with callables resolved by name; names that no longer exist are dropped."""
-    calls = pickle.loads(Path(path).read_bytes())
+    stored = pickle.loads(Path(path).read_bytes())["calls"]
+    calls = {}
+    for name, kept in stored.items():        # one pickle per call: a call whose classes moved away is dropped
+        for data in kept:
+            try:
+                calls.setdefault(name, []).append(pickle.loads(data))
+            except (ImportError, AttributeError):
+                continue
     public = public_callables()
     return {name: (public[name], kwargs_list) for name, kwargs_list in calls.items() if name in public}
 

@@ -94,9 +94,6 @@ from scipy.optimize import nnls
 
 from abrakit.validation import check_finite, check_option, check_positive, check_range, check_shape, number_arguments
 
-__all__ = ["ElementLaplacian", "SUPPORTED_MESHES", "demo", "element_centres", "element_laplacian", "face_neighbours",
-           "ghost_centres", "mirror_points", "taylor_matrix", "unit_cube_mesh"]
-
 #: Element families with a Taylor stencil: mesh class -> number of face neighbours.
 SUPPORTED_MESHES = {
     skfem.MeshLine1: 2,
@@ -657,21 +654,3 @@ def unit_cube_mesh(kind: str, n: int, *, grading: str = "none", perturb: float =
         shift = np.random.default_rng(seed).uniform(-perturb / n, perturb / n, mesh.p.shape)
         mesh = type(mesh)(mesh.p + movable * shift, mesh.t)
     return mesh
-
-
-def demo() -> str:
-    """Laplacian of a quadratic and of cos(pi x) cos(pi y) on perturbed quadrilateral meshes."""
-    lines = []
-    for n in (8, 16, 32):
-        mesh = unit_cube_mesh("quad", n, perturb=0.25)
-        lap = element_laplacian(mesh)
-        x, y = lap.centres.T
-        quadratic = lap(1.0 + x - 2.0 * y + 2.0 * x**2 + x * y - 0.5 * y**2)   # exact Laplacian 4 - 1 = 3
-        cosine = lap(np.cos(np.pi * x) * np.cos(np.pi * y))                # exact -2 pi^2 cos cos
-        error = cosine + 2.0 * np.pi**2 * np.cos(np.pi * x) * np.cos(np.pi * y)
-        interior = np.all(face_neighbours(mesh) >= 0, axis=1)
-        lines.append(f"h = 1/{n:<3d} {mesh.t.shape[1]:5d} quads: quadratic |Lf - 3| = "
-                     f"{np.abs(quadratic[interior] - 3.0).max():.1e} (interior), cos field rms error "
-                     f"{np.sqrt(np.mean(error**2)):.3f} of |Lf| <= {2 * np.pi**2:.1f}, fallbacks {lap.n_fallback}")
-    return ("Model I element Laplacian (4 faces + 1 diagonal, mirrored ghosts) on quads perturbed by 25 % of h:\n"
-            + "\n".join(lines))

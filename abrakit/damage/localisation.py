@@ -32,15 +32,13 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 import skfem
 
-from ..fem import Dirichlet, Kinematics, NewtonOptions, PathControl, Solver, StepControl, node_row_dofs, vector_basis
+from ..fem import Dirichlet, Kinematics, NewtonOptions, PathControl, Solver, StepControl, vector_basis
+from ..fem.boundary import node_row_dofs
 from ..materials import TABLE_7_1, TABLE_7_2, ModelIDamage, ModelIIDamage
 from ..validation import check_positive, check_range, number_arguments
 from .metrics import path_work
 from .model_one_fe import ModelISolver
 from .model_one_path import ModelIPathFollowingSolver
-
-__all__ = ["BarRun", "E_BAR", "LocalisationStudy", "bar_mesh", "bar_models", "cross_section", "curve_distance",
-           "demo", "localisation_study", "run_bar"]
 
 #: Young's modulus (MPa) of Tables 7.1/7.2; nu = 0 makes the strip a 1D bar.
 E_BAR = TABLE_7_1["E"]
@@ -276,14 +274,3 @@ def localisation_study(n_elements: Sequence[int] = (21, 41, 81, 161), models: di
     for name, material in models.items():
         study.runs[name] = [run_bar(material, n, name=name, **bar) for n in n_elements]
     return study
-
-
-def demo() -> str:
-    """Local vs regularised softening bar on 21, 41 and 81 elements: dissipated energy per mesh (a few seconds)."""
-    study = localisation_study((21, 41, 81), step=0.004)
-    lines = ["Bar 20 mm x 100 mm^2 with a weak spot, pulled to 0.04 mm; energy dissipated to break it (N mm):"]
-    for name in study.runs:
-        e = ", ".join(f"{v:.3g}" for v in study.energies(name))
-        lines.append(f"  {name:10s} n = {study.n_elements}: {e}  (finest/coarsest {study.energy_ratio(name):.2f}, "
-                     f"F-u distance {100 * study.curve_distance(name):.1f} %)")
-    return "\n".join(lines)

@@ -36,7 +36,7 @@ opposite. Every metric is exact on its own terms (tests check them on synthetic 
 - :func:`damaged_components` -- how many separate pieces the damaged set has (two cracks or one merged band;
   elements touching at a vertex belong to the same piece).
 
-:func:`specimen_metrics` evaluates them for one run on a :class:`~abrakit.damage.specimens.Specimen`;
+:func:`specimen_metrics` evaluates them for one run on a :class:`~abrakit.damage.specimens.DamageSpecimen`;
 :func:`mesh_study` gathers them for a family of meshes against the finest one.
 """
 
@@ -48,10 +48,6 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from ..validation import check_finite, check_range, number_arguments
-
-__all__ = ["BandWidth", "band_width", "curve_distance", "cut_width", "damaged_components", "element_areas",
-           "largest_drop", "mesh_study", "path_work", "peak", "relative_spread", "softening_displacement",
-           "specimen_metrics", "steepest_softening", "transition_ratio", "work"]
 
 
 def _curve(u, F, name="curve"):
@@ -214,9 +210,9 @@ def band_width(mesh, values, threshold: float = 0.5, *, length: float | None = N
 
     ``length``: the band's nominal length (mm); default: the extent of the damaged elements along their principal
     axis. ``within = (x0, x1, y0, y1)`` keeps only elements whose centre lies in that box. No damaged element
-    gives width 0.
+    gives width 0 (and angle NaN: an empty band has no axis). ``values``: a damage field, non-negative.
     """
-    values = _check_field(mesh, values)
+    values = check_range("values", _check_field(mesh, values), 0.0, None)
     centre = mesh.p[:, mesh.t].mean(axis=1)
     damaged = values >= threshold
     if within is not None:

@@ -67,9 +67,6 @@ from ..materials.model_one import damage_function_update
 from ..validation import check_finite, check_option, check_positive, check_range, number_arguments
 from .laplacian import ElementLaplacian, element_laplacian
 
-__all__ = ["DAMAGE_SCHEMES", "ModelIResult", "ModelISolver", "SNAP_BACK", "coupled_damage_function", "damage_update",
-           "demo", "element_damage_function", "gradient_energy", "model_one_energies", "solve_model_one"]
-
 SNAP_BACK = ("pass", "stop")
 DAMAGE_SCHEMES = ("seed", "coupled")
 
@@ -347,8 +344,10 @@ ENERGY_COLUMNS = ("external_work", "stored_energy", "gradient_energy", "dissipat
 class ModelISolver(Solver):
     """Algorithm 1 (Model I) on :class:`abrakit.fem.Solver`: Newton with f frozen, then the element damage step.
 
-    Parameters (besides the keyword options of :class:`abrakit.fem.Solver`: ``external_force``, ``loading``,
-    ``extra_terms``, ``monitors``, ``control``, ``newton``, ``linear_solver``, ``duration``, ``bbar``)
+    Besides the keyword options of :class:`abrakit.fem.Solver` (``external_force``, ``loading``, ``extra_terms``,
+    ``monitors``, ``control``, ``newton``, ``linear_solver``, ``duration``, ``bbar``):
+
+    Parameters
     ----------
     basis : vector basis of a ``MeshQuad``/``MeshTri`` (plane strain) or ``MeshHex``/``MeshTet`` mesh.
     material : :class:`abrakit.materials.ModelIDamage` (or any object with its ``update(..., damage=False)``,
@@ -505,30 +504,3 @@ def solve_model_one(basis, material, dirichlet: Sequence = (), *, end: float = 1
     """One-call form: ``ModelISolver(basis, material, dirichlet, **options).run(end=..., output=...)``."""
     return ModelISolver(basis, material, dirichlet, **options).run(end=end, output=output, vtu_every=vtu_every,
                                                                    progress=progress)
-
-
-def demo() -> str:
-    """Model I (Table 7.1, beta = 1 MPa mm^2) on a coarse quarter plate with a hole: a few seconds."""
-    from ..fem import Dirichlet, StepControl, meshes, vector_basis
-    from ..materials import TABLE_7_1, ModelIDamage
-
-    mesh = meshes.plate_with_hole(n_angular=8, n_radial=6)
-    basis = vector_basis(mesh)
-    conditions = [Dirichlet.on(basis, "left", "x"), Dirichlet.on(basis, "bottom", "y"),
-                  Dirichlet.on(basis, "top", "y", 0.1, name="top")]
-    material = ModelIDamage(**{**TABLE_7_1, "beta": 1.0}, tangent="consistent")
-    solver = ModelISolver(basis, material, conditions, control=StepControl(initial=0.01, maximum=0.01))
-    result = solver.run()
-    c = result.curves
-    peak, u_peak = result.peak("top")
-    return (
-        f"Model I (Table 7.1, beta = 1 MPa mm^2, coupled damage update) on a quarter plate with a hole, "
-        f"{solver.kin.nel} quads, plane strain, top edge pulled to {c['u_top'][-1]:.2f} mm in "
-        f"{len(c['step']) - 1} steps ({result.cutbacks} cutbacks, {result.jumps} sudden drops passed, "
-        f"{result.wall_time:.1f} s): peak {peak:.0f} N/mm at u = {u_peak:.3f} mm, final force "
-        f"{c['F_top'][-1]:.0f} N/mm; {int(np.sum(result.f < 0.5))} elements below half stiffness, "
-        f"max alpha_p {result.alpha_p.max():.4f}. Energy (N mm/mm): external {c['external_work'][-1]:.1f} = stored "
-        f"{c['stored_energy'][-1]:.1f} + dissipated {c['dissipated_energy'][-1]:.1f} (damage "
-        f"{c['damage_dissipation'][-1]:.1f}, plastic {c['plastic_dissipation'][-1]:.1f}) + released in drops "
-        f"{c['energy_error'][-1]:.1f}."
-    )

@@ -28,8 +28,6 @@ from dataclasses import dataclass
 import numpy as np
 import scipy.sparse as sp
 
-__all__ = ["coupling_blocks"]
-
 #: Relative step of the central differences in f and in the strain.
 RELATIVE_STEP = 1e-6
 

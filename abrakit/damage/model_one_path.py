@@ -71,8 +71,6 @@ from .model_one_fe import (
 )
 from .model_one_monolithic import _point_sensitivities, coupling_blocks
 
-__all__ = ["DamageControl", "ModelIPathFollowingSolver", "ModelIPathResult"]
-
 #: A step whose sweeps have not improved for this many sweeps is accepted if its change is within
 #: ``STALL_FACTOR * damage_tol`` (measured on the double notch: a 2e-6 cycle at tolerance 1e-6 after 400 sweeps).
 STALL_SWEEPS, STALL_FACTOR = 30, 10.0

@@ -38,8 +38,8 @@ the stress carries ``f_bar^{m+1}``: it shrinks in proportion to the load step.
 **Output** (directory ``output``): ``force_displacement.csv`` (one row per converged step, written as the run
 goes), ``fields/damage.pvd`` + ``.vtu`` (every ``vtu_every`` steps and the last one: displacement; per element
 ``f_bar``, ``stiffness_loss = 1 - f_bar``, ``d_mean`` and ``d_max`` over the sub-domains, ``alpha_p``,
-``psi0``, ``von_mises``), ``summary.json``, and ``last_converged.npz`` (:func:`abrakit.fem.load_checkpoint` reads
-it): every ``checkpoint_every`` steps and at the end (the final state, or the last good one when a step failed)
+``psi0``, ``von_mises``), ``summary.json``, and ``last_converged.npz`` (:func:`abrakit.fem.recorder.load_run`
+reads it): every ``checkpoint_every`` steps and at the end (the final state, or the last good one when a step failed)
 the state, the energy account with its rows and the solver's step control, from which ``resume=True`` continues a
 killed run.
 
@@ -63,13 +63,13 @@ from types import SimpleNamespace
 import numpy as np
 
 from ..fem.kinematics import element_mean
+from ..fem.output import RunWriter, cell_fields, meshio_cells
+from ..fem.recorder import continuation_arrays, load_run, save_run
+from ..fem.solver import StepFailed
 from ..io import CurveWriter, VtuSeries, write_json
 from ..materials import TABLE_7_2, ModelIIDamage
 from ..materials.model_two import damage_function, effective_damage_function
-from ..validation import check_option, check_positive, check_range
-
-__all__ = ["ModelTwoResult", "RATE_LIMITS", "default_material", "demo", "model_two_solver", "rate_limit_work",
-           "run_model_two"]
+from ..validation import check_finite, check_indices, check_option, check_positive, check_range, check_shape
 
 CURVE_COLUMNS = ("step", "load_factor", "u", "F", "external_work", "rate_limit_work", "damage_increment",
                  "stored_energy", "plastic_dissipation", "damage_dissipation", "threshold_dissipation",
@@ -86,8 +86,14 @@ def rate_limit_work(u: np.ndarray, u_old: np.ndarray, reactions_old: np.ndarray,
                     force_scale: float = 1.0) -> float:
     """``l_ext dt = s sum_D (u_D^{m+1} - u_D^m) f*_D^m`` (N mm), Eq. (6.97) times dt: the work of the last
     converged reactions ``reactions_old`` (internal forces, N or N/mm) over the applied displacement increment."""
-    du = np.asarray(u)[prescribed] - np.asarray(u_old)[prescribed]
-    return float(force_scale * np.dot(du, np.asarray(reactions_old)[prescribed]))
+    u, u_old, reactions_old = (check_shape(name, check_finite(name, value), (None,)) for name, value in
+                               (("u", u), ("u_old", u_old), ("reactions_old", reactions_old)))
+    if not u.shape == u_old.shape == reactions_old.shape:
+        raise ValueError(f"u, u_old and reactions_old must have one shape, got {u.shape}, {u_old.shape}, "
+                         f"{reactions_old.shape}")
+    prescribed = check_indices("prescribed", prescribed, u.size)
+    du = u[prescribed] - u_old[prescribed]
+    return float(check_finite("force_scale", force_scale) * np.dot(du, reactions_old[prescribed]))
 
 
 def f_bar_of(state: dict) -> np.ndarray:
@@ -247,81 +253,54 @@ def model_two_solver(basis, material: ModelIIDamage, dirichlet, *, force_scale: 
     return solver
 
 
-def run_model_two(specimen, alpha: float = 0.05, *, material: ModelIIDamage | None = None, steps: int = 200,
-                  end: float = 1.0, stop_fraction: float | None = None, output: str | Path | None = None,
-                  vtu_every: int = 0, control=None, newton=None, linear_solver="auto", progress: bool = False,
-                  on_step: Callable[[ModelTwoResult], None] | None = None, path=None,
-                  method: str = "dissipation", rate_limit: str = "iterate", checkpoint_every: int = 10,
-                  resume: bool = False) -> ModelTwoResult:
-    """Load ``specimen`` (:mod:`abrakit.damage.specimens`) with Model II: Algorithm 2 at every quadrature point.
+class _ModelTwoRun:
+    """The record of a Model II run (see the module docstring): its energy account and rows, the curves and VTU
+    files, the checkpoint, and what happens after every converged step (account, checkpoint, ``on_step``, the
+    stop once the force has fallen below ``stop_fraction`` of its peak)."""
 
-    Parameters
-    ----------
-    specimen : a :class:`~abrakit.damage.specimens.Specimen` (mesh, basis, Dirichlet conditions, loaded edge).
-    alpha : rate-limit factor (1/(N mm)): Table 7.2 uses 0.05 (almost local) and 0.005 (regularised).
-    material : a :class:`ModelIIDamage`; default :func:`default_material` (Table 7.2 with ``alpha``).
-    steps : number of equal load steps from 0 to ``end`` (load factor; 1 = ``specimen.displacement``).
-    stop_fraction : stop once the force has fallen below this fraction of its peak after the peak.
-    output : directory for the curves, VTU fields (every ``vtu_every`` steps, 0: last step only), summary and
-        checkpoint; ``None`` writes nothing.
-    on_step : called with the partial result after every converged step.
-    path, method, rate_limit : path following (a :class:`~abrakit.fem.PathControl` and the constraint method of
-        :class:`~abrakit.fem.PathFollowingSolver`) instead of ``steps`` equal displacement increments; see
-        :func:`model_two_solver` for the rate limit under path following.
-    checkpoint_every, resume : with ``output``, ``last_converged.npz`` is also written every ``checkpoint_every``
-        converged steps (0: only at the end) with the energy account, the rows and the solver's step control;
-        ``resume=True`` continues a killed run from it (``force_displacement.csv`` and the VTU series rewound), and
-        a finished run's rerun returns its result at once. Displacement control only (``path=None``).
-    """
-    from ..fem import StepFailed
-    from ..fem.output import RunWriter, cell_fields, load_matching_checkpoint, meshio_cells, save_checkpoint
-    from ..fem.solver import continuation_arrays, continuation_of
+    def __init__(self, specimen, material: ModelIIDamage, solver, output, *, vtu_every: int, checkpoint_every: int,
+                 stop_fraction: float | None, on_step, fingerprint: dict):
+        self.specimen, self.material, self.solver = specimen, material, solver
+        kin = solver.kin
+        self.dx, self.scale = kin.dx, specimen.force_scale
+        self.prescribed, self.loaded = solver.constraints.prescribed, specimen.loaded_dofs
+        self.mesh = kin.basis.mesh
+        self.out = out = Path(output) if output is not None else None
+        self.writer = CurveWriter(out / "force_displacement.csv", CURVE_COLUMNS) if out is not None else None
+        self.vtu = VtuSeries(out / "fields", stem="damage") if out is not None else None
+        self.nodal = np.asarray(kin.basis.nodal_dofs)
+        self.points = np.vstack([self.mesh.p, np.zeros((3 - self.mesh.dim(), self.mesh.p.shape[1]))]).T
+        self.vtu_every, self.checkpoint_every = vtu_every, checkpoint_every
+        self.stop_fraction, self.on_step, self.fingerprint = stop_fraction, on_step, fingerprint
+        self.book = _Bookkeeping()
+        self.t0 = _time.perf_counter()
 
-    material = default_material(alpha) if material is None else material
-    if stop_fraction is not None:
-        check_range("stop_fraction", stop_fraction, 0.0, 1.0, low_open=True, high_open=True)
-    vtu_every = int(check_range("vtu_every", vtu_every, 0, None))
-    check_range("checkpoint_every", checkpoint_every, 0, None)
-    if resume and path is not None:
-        raise ValueError("resume: run_model_two resumes displacement-controlled runs only (path=None); a "
-                         "path-followed run resumes through PathFollowingSolver.run(output=..., resume=True)")
-    solver = model_two_solver(specimen.basis, material, specimen.dirichlet, force_scale=specimen.force_scale,
-                              steps=steps, control=control, newton=newton, linear_solver=linear_solver, end=end,
-                              path=path, method=method, rate_limit=rate_limit)
-    kin, scale = solver.kin, specimen.force_scale
-    dx = kin.dx
-    prescribed = solver.constraints.prescribed
-    loaded = specimen.loaded_dofs
-    mesh = kin.basis.mesh
-    out = Path(output) if output is not None else None
-    writer = CurveWriter(out / "force_displacement.csv", CURVE_COLUMNS) if out is not None else None
-    vtu = VtuSeries(out / "fields", stem="damage") if out is not None else None
-    nodal = np.asarray(kin.basis.nodal_dofs)
-    points = np.vstack([mesh.p, np.zeros((3 - mesh.dim(), mesh.p.shape[1]))]).T
-    book = _Bookkeeping()
-    t0 = _time.perf_counter()
+    @property
+    def checkpoint_path(self) -> Path:
+        return self.out / RunWriter.CHECKPOINT
 
-    def write_fields(res, step):
-        if vtu is None:
+    def write_fields(self, res, step) -> None:
+        if self.vtu is None:
             return
-        state = res.state
+        state, dx, mesh = res.state, self.dx, self.mesh
         f_bar = element_f_bar(state, dx)
         fields = cell_fields(res.response.stress, {})
         fields.update(f_bar=f_bar, stiffness_loss=1.0 - f_bar, d_mean=element_mean(state["d"].mean(axis=-1), dx),
                       d_max=state["d"].max(axis=(1, 2)), alpha_p=element_mean(state["alpha_p"], dx),
                       psi0=element_mean(state["psi0"], dx))
         disp = np.zeros((mesh.p.shape[1], 3))
-        disp[:, : nodal.shape[0]] = res.u[nodal].T
-        vtu.write(float(step), points, meshio_cells(mesh), point_data={"displacement": disp},
-                  cell_data={k: [np.asarray(v, dtype=float)] for k, v in fields.items()})
+        disp[:, : self.nodal.shape[0]] = res.u[self.nodal].T
+        self.vtu.write(float(step), self.points, meshio_cells(mesh), point_data={"displacement": disp},
+                       cell_data={k: [np.asarray(v, dtype=float)] for k, v in fields.items()})
 
-    def account(res):
+    def account(self, res) -> None:
         """Energies and checks of the last converged step (the first call records the start)."""
+        book, material, dx, scale, prescribed = self.book, self.material, self.dx, self.scale, self.prescribed
         state, u, f_int = res.state, res.u, res.f_int
         step = len(book.rows)                    # rows[0] is the start: continued runs number on
         f_bar = f_bar_of(state)
         row = {"step": step, "load_factor": float(res.load_factors[-1]),
-               "u": float(np.mean(u[loaded])), "F": scale * float(np.sum(f_int[loaded])),
+               "u": float(np.mean(u[self.loaded])), "F": scale * float(np.sum(f_int[self.loaded])),
                "iterations": int(res.iterations[-1]), "cutbacks": int(res.cutbacks)}
         work = 0.0
         if book.state_prev is not None:
@@ -351,123 +330,166 @@ def run_model_two(specimen, alpha: float = 0.05, *, material: ModelIIDamage | No
                    threshold_dissipation=book.threshold, dissipated_energy=dissipated,
                    energy_error=book.external - stored - dissipated, max_d=d_max,
                    min_f_bar=float(f_bar.min(initial=1.0)),
-                   damaged_area=scale / specimen.thickness * float(np.sum(dx * (f_bar <= 0.25))),
+                   damaged_area=scale / self.specimen.thickness * float(np.sum(dx * (f_bar <= 0.25))),
                    seconds=now - book.clock)
         book.clock = now
         book.rows.append(row)
         book.u_prev, book.f_prev, book.state_prev, book.last = u, f_int, state, res
         book.peak = max(book.peak, row["F"])
-        if writer is not None:
-            writer.write(**row)
-        if vtu_every and step % vtu_every == 0:
-            write_fields(res, step)
+        if self.writer is not None:
+            self.writer.write(**row)
+        if self.vtu_every and step % self.vtu_every == 0:
+            self.write_fields(res, step)
 
-    def result(status, message, solve, checkpoint=None) -> ModelTwoResult:
-        curves = {k: np.array([r[k] for r in book.rows]) for k in CURVE_COLUMNS}
-        state = solve.state
+    def result(self, status, message, solve, checkpoint=None) -> ModelTwoResult:
+        curves = {k: np.array([r[k] for r in self.book.rows]) for k in CURVE_COLUMNS}
+        state, dx = solve.state, self.dx
         return ModelTwoResult(
             curves=curves, f_bar=element_f_bar(state, dx),
             d_mean=element_mean(state["d"].mean(axis=-1), dx), alpha_p=element_mean(state["alpha_p"], dx),
             u=solve.u, state=state, status=status, message=message, cutbacks=int(solve.cutbacks),
-            wall_time=_time.perf_counter() - t0, alpha=float(material.alpha), elements=int(kin.nel), output=out,
-            checkpoint=checkpoint)
+            wall_time=_time.perf_counter() - self.t0, alpha=float(self.material.alpha),
+            elements=int(self.solver.kin.nel), output=self.out, checkpoint=checkpoint)
 
-    fingerprint = {"material": repr(material), "steps": steps, "end": end, "dofs": int(kin.ndof),
-                   "elements": int(kin.nel)}
-
-    def save(res, status="running", message=""):
+    def save(self, res, status="running", message="") -> Path:
         """The checkpoint: the converged state, the energy account and rows, the VTU entries, the step control."""
+        book = self.book
         arrays = {"f_int": res.f_int} | continuation_arrays(res.continuation)     # f_int: also the account's
         account_ = {k: getattr(book, k) for k in ("rows", "external", "plastic", "released", "threshold", "peak")}
         control = None if res.continuation is None else res.continuation["control"]
-        meta = {"fingerprint": fingerprint, "account": account_, "control": control,
-                "vtu": VtuSeries.position(vtu), "status": status, "message": message}
-        return save_checkpoint(out / RunWriter.CHECKPOINT, res.u, res.state, float(res.load_factors[-1]),
-                               float(res.times[-1]), arrays=arrays, meta=meta)
+        return save_run(self.checkpoint_path, res.u, res.state, float(res.load_factors[-1]), float(res.times[-1]),
+                        fingerprint=self.fingerprint, control=control, arrays=arrays, account=account_,
+                        vtu=VtuSeries.position(self.vtu), status=status, message=message)
 
-    def after_step(res):
-        account(res)
-        if out is not None and checkpoint_every and (len(book.rows) - 1) % checkpoint_every == 0:
-            save(res)
-        if on_step is not None:
-            on_step(result("running", "", res))
+    def after_step(self, res) -> None:
+        """``on_step`` of the solver: account, checkpoint every ``checkpoint_every`` steps, the caller's
+        ``on_step``, and the stop (:class:`_Stop`) once the force fell below ``stop_fraction`` of the peak."""
+        self.account(res)
+        book = self.book
+        if self.out is not None and self.checkpoint_every and (len(book.rows) - 1) % self.checkpoint_every == 0:
+            self.save(res)
+        if self.on_step is not None:
+            self.on_step(self.result("running", "", res))
         F = book.rows[-1]["F"]
-        if stop_fraction is not None and len(book.rows) > 2 and F < stop_fraction * book.peak:
+        if self.stop_fraction is not None and len(book.rows) > 2 and F < self.stop_fraction * book.peak:
             raise _Stop()
 
-    saved = (load_matching_checkpoint(out / RunWriter.CHECKPOINT, fingerprint,
-                                      "Model II run (material, steps or mesh differ)")
-             if resume and out is not None else None)
-    continuation = None
-    if saved is None:    # the unloaded start (the solver records it but reports only converged steps to on_step)
-        book.u_prev, book.f_prev = solver.constraints.apply(np.zeros(kin.ndof), 0.0), np.zeros(kin.ndof)
-        book.rows.append({k: 0.0 for k in CURVE_COLUMNS}
-                         | {"min_f_bar": 1.0, "u": float(np.mean(book.u_prev[loaded]))})
-        book.state_prev = material.initial_state((kin.nel, kin.nqp))
-    else:                # where the checkpoint left the run: its account, rows and output
-        meta = saved["meta"]
-        for name, value in meta["account"].items():
-            setattr(book, name, value)
-        book.u_prev, book.f_prev, book.state_prev = saved["u"], saved["arrays"]["f_int"], saved["state"]
-        if vtu is not None:
-            vtu.restart(meta["vtu"])
-        if meta["status"] != "running":            # a finished run: its result at once, nothing recomputed
-            if writer is not None:
-                writer.rewrite(book.rows)
-                writer.close()
-            solve = SimpleNamespace(u=saved["u"], state=saved["state"], cutbacks=int(book.rows[-1]["cutbacks"]))
-            return result(meta["status"], meta["message"], solve, out / RunWriter.CHECKPOINT)
-        continuation = continuation_of(saved)
-    if writer is not None:
-        writer.rewrite(book.rows)
-    status, message, checkpoint = "end", "", None
-    try:
+    def load(self) -> dict | None:
+        """The checkpoint of this run in ``output`` (None without one or without ``output``)."""
+        if self.out is None:
+            return None
+        return load_run(self.checkpoint_path, self.fingerprint, "Model II run (material, steps or mesh differ)")
+
+    def start(self, saved: dict | None) -> dict | None:
+        """The account from the unloaded start, or from the checkpoint ``saved``; returns the solver's
+        continuation (None from the start). ``force_displacement.csv`` is rewritten with the rows so far."""
+        book, kin = self.book, self.solver.kin
+        continuation = None
+        if saved is None:    # the unloaded start (the solver records it but reports only converged steps)
+            book.u_prev, book.f_prev = self.solver.constraints.apply(np.zeros(kin.ndof), 0.0), np.zeros(kin.ndof)
+            book.rows.append({k: 0.0 for k in CURVE_COLUMNS}
+                             | {"min_f_bar": 1.0, "u": float(np.mean(book.u_prev[self.loaded]))})
+            book.state_prev = self.material.initial_state((kin.nel, kin.nqp))
+        else:                # where the checkpoint left the run: its account, rows and output
+            meta = saved["meta"]
+            for name, value in meta["account"].items():
+                setattr(book, name, value)
+            book.u_prev, book.f_prev, book.state_prev = saved["u"], saved["arrays"]["f_int"], saved["state"]
+            if self.vtu is not None:
+                self.vtu.restart(meta["vtu"])
+            continuation = saved["continuation"]
+        if self.writer is not None:
+            self.writer.rewrite(book.rows)
         book.clock = _time.perf_counter()
+        return continuation
+
+    def close(self) -> None:
+        if self.writer is not None:
+            self.writer.close()
+
+    def stored(self, saved: dict) -> ModelTwoResult:
+        """A finished run's result from its checkpoint, nothing recomputed."""
+        self.start(saved)
+        self.close()
+        solve = SimpleNamespace(u=saved["u"], state=saved["state"], cutbacks=int(self.book.rows[-1]["cutbacks"]))
+        return self.result(saved["meta"]["status"], saved["meta"]["message"], solve, self.checkpoint_path)
+
+    def finish(self, status: str, message: str, solve) -> ModelTwoResult:
+        """The result; with ``output`` the last fields, the final checkpoint and ``summary.json``."""
+        book, checkpoint = self.book, None
+        if book.last is None:  # not even the first step converged: the last good state is the start
+            book.last = solve
+        if self.out is not None:
+            if not self.vtu_every or (len(book.rows) - 1) % self.vtu_every:
+                self.write_fields(book.last, len(book.rows) - 1)
+            checkpoint = self.save(book.last, status, message)
+        res = self.result(status, message, solve if status != "fractured" else book.last, checkpoint)
+        if self.out is not None:
+            write_json(self.out / "summary.json", {"specimen": self.specimen.summary(), **res.summary()})
+        return res
+
+
+def run_model_two(specimen, alpha: float = 0.05, *, material: ModelIIDamage | None = None, steps: int = 200,
+                  end: float = 1.0, stop_fraction: float | None = None, output: str | Path | None = None,
+                  vtu_every: int = 0, control=None, newton=None, linear_solver="auto", progress: bool = False,
+                  on_step: Callable[[ModelTwoResult], None] | None = None, path=None,
+                  method: str = "dissipation", rate_limit: str = "iterate", checkpoint_every: int = 10,
+                  resume: bool = False) -> ModelTwoResult:
+    """Load ``specimen`` (:mod:`abrakit.damage.specimens`) with Model II: Algorithm 2 at every quadrature point.
+
+    Parameters
+    ----------
+    specimen : a :class:`~abrakit.damage.specimens.DamageSpecimen` (mesh, basis, Dirichlet conditions, loaded edge).
+    alpha : rate-limit factor (1/(N mm)): Table 7.2 uses 0.05 (almost local) and 0.005 (regularised).
+    material : a :class:`ModelIIDamage`; default :func:`default_material` (Table 7.2 with ``alpha``).
+    steps : number of equal load steps from 0 to ``end`` (load factor; 1 = ``specimen.displacement``).
+    stop_fraction : stop once the force has fallen below this fraction of its peak after the peak.
+    output : directory for the curves, VTU fields (every ``vtu_every`` steps, 0: last step only), summary and
+        checkpoint; ``None`` writes nothing.
+    on_step : called with the partial result after every converged step.
+    path, method, rate_limit : path following (a :class:`~abrakit.fem.PathControl` and the constraint method of
+        :class:`~abrakit.fem.PathFollowingSolver`) instead of ``steps`` equal displacement increments; see
+        :func:`model_two_solver` for the rate limit under path following.
+    checkpoint_every, resume : with ``output``, ``last_converged.npz`` is also written every ``checkpoint_every``
+        converged steps (0: only at the end) with the energy account, the rows and the solver's step control;
+        ``resume=True`` continues a killed run from it (``force_displacement.csv`` and the VTU series rewound), and
+        a finished run's rerun returns its result at once. Displacement control only (``path=None``).
+    """
+    material = default_material(alpha) if material is None else material
+    if stop_fraction is not None:
+        check_range("stop_fraction", stop_fraction, 0.0, 1.0, low_open=True, high_open=True)
+    vtu_every = int(check_range("vtu_every", vtu_every, 0, None))
+    check_range("checkpoint_every", checkpoint_every, 0, None)
+    if resume and path is not None:
+        raise ValueError("resume: run_model_two resumes displacement-controlled runs only (path=None); a "
+                         "path-followed run resumes through PathFollowingSolver.run(output=..., resume=True)")
+    solver = model_two_solver(specimen.basis, material, specimen.dirichlet, force_scale=specimen.force_scale,
+                              steps=steps, control=control, newton=newton, linear_solver=linear_solver, end=end,
+                              path=path, method=method, rate_limit=rate_limit)
+    fingerprint = {"material": repr(material), "steps": steps, "end": end, "dofs": int(solver.kin.ndof),
+                   "elements": int(solver.kin.nel)}
+    run = _ModelTwoRun(specimen, material, solver, output, vtu_every=vtu_every, checkpoint_every=checkpoint_every,
+                       stop_fraction=stop_fraction, on_step=on_step, fingerprint=fingerprint)
+    saved = run.load() if resume else None
+    if saved is not None and saved["meta"]["status"] != "running":   # a finished run: its result at once
+        return run.stored(saved)
+    continuation = run.start(saved)
+    status, message = "end", ""
+    try:
         resumed = {} if continuation is None else {"continuation": continuation}      # from the checkpoint
-        solve = solver.run(end=end, progress=progress, on_step=after_step, output=None, **resumed)
+        solve = solver.run(end=end, progress=progress, on_step=run.after_step, output=None, **resumed)
     except _Stop:
-        solve = book.last
-        status = "fractured"
-        message = (f"stopped at u = {book.rows[-1]['u']:.4g} mm: the force {book.rows[-1]['F']:.4g} N fell below "
-                   f"{stop_fraction:g} of the peak {book.peak:.4g} N")
+        solve, status = run.book.last, "fractured"
+        rows, peak = run.book.rows, run.book.peak
+        message = (f"stopped at u = {rows[-1]['u']:.4g} mm: the force {rows[-1]['F']:.4g} N fell below "
+                   f"{stop_fraction:g} of the peak {peak:.4g} N")
     except StepFailed as failure:
-        solve = failure.result
-        status = "failed"
+        solve, status = failure.result, "failed"
         message = (f"Model II run stopped at load factor {failure.load_factor:.6g} "
-                   f"(u = {book.rows[-1]['u']:.4g} mm): {failure.reason}; the load step could not be completed "
+                   f"(u = {run.book.rows[-1]['u']:.4g} mm): {failure.reason}; the load step could not be completed "
                    f"even when cut back to {solver.control.minimum:.3g}. The result and "
-                   f"{RunWriter.CHECKPOINT if out else 'result.state'} hold the last converged state.")
+                   f"{RunWriter.CHECKPOINT if run.out else 'result.state'} hold the last converged state.")
         warnings.warn(message, RuntimeWarning, stacklevel=2)
     finally:
-        if writer is not None:
-            writer.close()
-    if book.last is None:  # not even the first step converged: the last good state is the start
-        book.last = solve
-    if out is not None:
-        last = book.last
-        if not vtu_every or (len(book.rows) - 1) % vtu_every:
-            write_fields(last, len(book.rows) - 1)
-        checkpoint = save(last, status, message)
-    res = result(status, message, solve if status != "fractured" else book.last, checkpoint)
-    if out is not None:
-        write_json(out / "summary.json", {"specimen": specimen.summary(), **res.summary()})
-    return res
-
-
-def demo() -> str:
-    """Double-notched strip, ~300 elements, Model II with alpha = 0.005 (Table 7.2): a few seconds."""
-    from .specimens import double_notched
-
-    specimen = double_notched(300)
-    res = run_model_two(specimen, alpha=0.005, steps=100, stop_fraction=0.05)
-    F_max, u_peak = res.peak()
-    s = res.summary()
-    return (
-        f"Model II (ERVE, n = 20, alpha = 0.005 1/(N mm), Table 7.2) on the double-notched strip 50 x 100 mm, "
-        f"{res.elements} elements, plane strain x 3 mm: peak force {F_max:.0f} N at u = {u_peak:.4f} mm; "
-        f"{res.status} after {res.steps} steps ({res.newton_iterations} Newton iterations, {res.cutbacks} "
-        f"cutbacks, {res.wall_time:.1f} s); dissipated {res.dissipated_energy:.1f} N mm of "
-        f"{s['external_work_Nmm']:.1f} N mm external work (balance error {s['energy_error_Nmm']:.2f} N mm); "
-        f"max sub-domain damage {s['max_d']:.3f} (cap 0.999); "
-        f"fully damaged area {res.curves['damaged_area'][-1]:.1f} mm^2."
-    )
+        run.close()
+    return run.finish(status, message, solve)

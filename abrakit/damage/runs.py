@@ -1,6 +1,6 @@
 """One run of a damage model on a Chapter 7 specimen, recorded the same way for every model (the comparison chapter).
 
-:func:`run_specimen` loads a :class:`~abrakit.damage.specimens.Specimen` with Model I
+:func:`run_specimen` loads a :class:`~abrakit.damage.specimens.DamageSpecimen` with Model I
 (:mod:`abrakit.damage.model_one_fe`), Model II (:mod:`abrakit.damage.model_two_fe`) or the anisotropic softening
 damage of seed 001 (``"anisotropic"``, :mod:`abrakit.damage.crack_band`) and returns a :class:`SpecimenRun`. It
 lives apart from the specimens so that the models may use the specimens (their demos do) without an import cycle.
@@ -22,10 +22,7 @@ from .metrics import element_areas
 from .model_one_fe import ModelISolver
 from .model_one_path import ModelIPathFollowingSolver
 from .model_two_fe import run_model_two
-from .specimens import Specimen
-
-__all__ = ["REGULARISATION", "SpecimenRun", "run_specimen"]
-
+from .specimens import DamageSpecimen
 
 #: Regularisation parameters of Ch. 7: Model I beta (MPa mm^2, Table 7.1), Model II alpha (1/(N mm), Table 7.2).
 REGULARISATION = {"I": {"weak": 0.1, "strong": 1.0}, "II": {"weak": 0.05, "strong": 0.005}}
@@ -59,7 +56,7 @@ class _Stop(Exception):
     pass
 
 
-def run_specimen(specimen: Specimen, model: str, parameter: float, *, step: float = 0.002,
+def run_specimen(specimen: DamageSpecimen, model: str, parameter: float, *, step: float = 0.002,
                  stop_fraction: float | None = 0.1, gauge: tuple[float, float] | None = None,
                  opening: tuple[np.ndarray, np.ndarray] | None = None, path: PathControl | None = None,
                  material_options: dict | None = None, damage_step: float | None = None) -> SpecimenRun:
@@ -79,7 +76,7 @@ def run_specimen(specimen: Specimen, model: str, parameter: float, *, step: floa
 
     ``gauge=(low, high)`` (mm): follow the path instead
     (:class:`~abrakit.damage.model_one_path.ModelIPathFollowingSolver`, opening of the extensometer
-    :meth:`Specimen.gauge`; ``path`` default: first load step 10 ``step``, opening steps at most 20 times the
+    :meth:`DamageSpecimen.gauge`; ``path`` default: first load step 10 ``step``, opening steps at most 20 times the
     first), through any snap-back, until ``stop_fraction`` of the peak. ``opening=(dofs_plus, dofs_minus)``: the
     same with an opening of one's own (mean relative displacement of the two DOF sets), where no row of nodes
     makes a gauge (the plate with a hole's polar mesh). ``damage_step`` (N mm, or N mm/mm in plane strain): follow
@@ -162,7 +159,7 @@ def _ended(F, stop_fraction, max_steps: int) -> tuple[str, str]:
                    if F.size else "no step")
 
 
-def _follow(specimen: Specimen, material, opening, path: PathControl, stop_fraction) -> SpecimenRun:
+def _follow(specimen: DamageSpecimen, material, opening, path: PathControl, stop_fraction) -> SpecimenRun:
     """Model I on ``specimen`` under path following by ``opening`` (DOF sets), or, with ``opening=None``, by the
     damage dissipation ``path.dissipation`` per step (see :func:`run_specimen`)."""
     if opening is None:
@@ -183,7 +180,7 @@ def _follow(specimen: Specimen, material, opening, path: PathControl, stop_fract
                        int(res.solve.cutbacks), res.seconds, res)
 
 
-def _crack_band(specimen: Specimen, toughness: float, path: PathControl | None, increment: float,
+def _crack_band(specimen: DamageSpecimen, toughness: float, path: PathControl | None, increment: float,
                 stop_fraction, options: dict) -> SpecimenRun:
     """Seed 001's model on ``specimen`` under dissipation-controlled path following (see :func:`run_specimen`)."""
     material = specimen_material(specimen.basis, check_positive("parameter (G_Ic)", toughness),

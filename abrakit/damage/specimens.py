@@ -1,11 +1,11 @@
 """The three boundary value problems of Ch. 7, ready for Model I and Model II, at three mesh levels.
 
-- :func:`plate_with_hole` — quarter of a plate with a central hole pulled at its top edge (Ch. 7.1.1);
+- :func:`plate_with_hole_specimen` — quarter of a plate with a central hole pulled at its top edge (Ch. 7.1.1);
 - :func:`double_notched` — strip with two asymmetric edge notches, bottom clamped, top pulled (Ch. 7.1.2, 7.2.2);
 - :func:`sharp_notch` — half of the 50 x 40 mm specimen with a 25 mm sharp horizontal notch (Ch. 7.2.1).
 
 Each takes a mesh ``level``: ``"coarse"``, ``"medium"``, ``"fine"`` (about 1000, 4000 and 8000 elements, the
-seed's 900-1010 / 4033-4080 / 8014-8477) or an integer element target, and returns a :class:`Specimen` with the
+seed's 900-1010 / 4033-4080 / 8014-8477) or an integer element target, and returns a :class:`DamageSpecimen` with the
 mesh, the displacement basis, the Dirichlet conditions as functions of the load factor, the name of the loaded
 boundary (its reaction is the force of the force–displacement curve) and the prescribed displacement at load
 factor 1. Every mesh is refined where the damage band goes.
@@ -51,11 +51,9 @@ from functools import lru_cache
 import numpy as np
 import skfem
 
-from ..fem import Dirichlet, meshes, node_row_dofs, vector_basis
+from ..fem import Dirichlet, meshes, vector_basis
+from ..fem.boundary import node_row_dofs
 from ..validation import check_option, check_positive, check_range, number_arguments
-
-__all__ = ["FORMULATIONS", "LEVELS", "SPECIMENS", "Specimen", "THICKNESS", "double_notched", "double_notched_mesh",
-           "plate_with_hole", "plate_with_hole_mesh", "plot_field", "sharp_notch", "sharp_notch_mesh", "specimen"]
 
 #: Element targets of the named mesh levels (the seed: 900-1010, 4033-4080, 8014-8477 elements).
 LEVELS = {"coarse": 1000, "medium": 4000, "fine": 8000}
@@ -65,7 +63,7 @@ _TOL = 1e-9
 
 
 @dataclass(frozen=True, eq=False)
-class Specimen:
+class DamageSpecimen:
     """A ready boundary value problem: mesh, basis, Dirichlet conditions and what to measure.
 
     ``dirichlet``: conditions as functions of the load factor (the loaded one is named ``loaded``, so the solver
@@ -258,7 +256,7 @@ def _scaled(base: tuple[int, int], target: int) -> tuple[int, int]:
 
 # ---- assembling a specimen --------------------------------------------------------------------------------------
 def _finish(name, level, plane_mesh, conditions, loaded, displacement, formulation, band_length, band_mirror,
-            dimensions, description) -> Specimen:
+            dimensions, description) -> DamageSpecimen:
     check_option("formulation", formulation, FORMULATIONS)
     displacement = check_positive("displacement", displacement)
     mesh = plane_mesh if formulation == "plane_strain" else meshes.extrude(plane_mesh, THICKNESS, 1)
@@ -275,11 +273,12 @@ def _finish(name, level, plane_mesh, conditions, loaded, displacement, formulati
                                     name=(loaded if boundary == loaded and value else "")))
     if formulation == "extruded":
         bcs.insert(0, Dirichlet.on(basis, "front", "z"))
-    return Specimen(name, level, mesh, basis, tuple(bcs), loaded, displacement, formulation, THICKNESS, plane_mesh,
-                    band_length, band_mirror, dimensions, description)
+    return DamageSpecimen(name, level, mesh, basis, tuple(bcs), loaded, displacement, formulation, THICKNESS,
+                          plane_mesh, band_length, band_mirror, dimensions, description)
 
 
-def plate_with_hole(level="coarse", *, displacement: float = 0.12, formulation: str = "plane_strain") -> Specimen:
+def plate_with_hole_specimen(level="coarse", *, displacement: float = 0.12,
+                             formulation: str = "plane_strain") -> DamageSpecimen:
     """Quarter plate 50 x 50 mm with a hole of radius 10 mm (plate 100 x 100, Ch. 7.1.1), top edge pulled.
 
     Mesh: rays graded towards the ligament y = 0 (40 x 25 elements for 1000). Symmetry ``left`` (u_x = 0) and
@@ -295,7 +294,7 @@ def plate_with_hole(level="coarse", *, displacement: float = 0.12, formulation: 
 
 
 def double_notched(level="coarse", *, displacement: float = 0.3, formulation: str = "plane_strain",
-                   offset: float = 10.0) -> Specimen:
+                   offset: float = 10.0) -> DamageSpecimen:
     """Strip 50 x 100 mm with asymmetric edge notches (10 mm deep, 2 mm wide, +/-``offset`` off mid-height).
 
     Mesh: :func:`double_notched_mesh`, squares of size ``h`` in the band 10 mm beyond the notches, graded
@@ -315,7 +314,7 @@ def double_notched(level="coarse", *, displacement: float = 0.3, formulation: st
                    f"strip 50 x 100 mm, notches 10 x 2 mm at mid-height +/- {offset:g} mm, bottom clamped, top pulled")
 
 
-def sharp_notch(level="coarse", *, displacement: float = 0.1, formulation: str = "plane_strain") -> Specimen:
+def sharp_notch(level="coarse", *, displacement: float = 0.1, formulation: str = "plane_strain") -> DamageSpecimen:
     """Upper half of the 50 x 40 mm specimen with a 25 mm sharp notch (Ch. 7.2.1), top edge pulled.
 
     Mesh: :func:`sharp_notch_mesh` (40 x 25 elements for 1000). ``ligament`` u_y = 0 (symmetry), notch faces
@@ -332,17 +331,17 @@ def sharp_notch(level="coarse", *, displacement: float = 0.1, formulation: str =
 
 
 #: The three problems by name.
-SPECIMENS = {"plate_with_hole": plate_with_hole, "double_notched": double_notched, "sharp_notch": sharp_notch}
+SPECIMENS = {"plate_with_hole": plate_with_hole_specimen, "double_notched": double_notched, "sharp_notch": sharp_notch}
 
 
-def specimen(name: str, level="coarse", **options) -> Specimen:
+def specimen(name: str, level="coarse", **options) -> DamageSpecimen:
     """``SPECIMENS[name](level, **options)`` with a clear message for unknown names."""
     check_option("name", name, tuple(SPECIMENS))
     return SPECIMENS[name](level, **options)
 
 
 # ---- pictures ---------------------------------------------------------------------------------------------------
-def _mirrors(specimen: Specimen) -> list[tuple[float, float]]:
+def _mirrors(specimen: DamageSpecimen) -> list[tuple[float, float]]:
     """Reflections (sx, sy) that complete the modelled part to the whole specimen."""
     if specimen.name == "plate_with_hole":
         return [(1, 1), (-1, 1), (1, -1), (-1, -1)]
@@ -351,7 +350,7 @@ def _mirrors(specimen: Specimen) -> list[tuple[float, float]]:
     return [(1, 1)]
 
 
-def plot_field(specimen: Specimen, values, ax=None, *, whole: bool = True, edges: bool = False, colorbar=True,
+def plot_field(specimen: DamageSpecimen, values, ax=None, *, whole: bool = True, edges: bool = False, colorbar=True,
                label: str = "", **style):
     """Element field ``values`` (one per element of ``specimen.plane_mesh``) as coloured polygons.
 

@@ -25,9 +25,6 @@ from abrakit.dem.contact_laws import _cross, _dot, _turn_into_plane
 from abrakit.dem.state import pair_keys
 from abrakit.validation import check_positive
 
-__all__ = ["CrackLog", "ParallelBonds", "candidate_bond_pairs", "install_contact_bonds",
-           "install_parallel_bonds"]
-
 
 class CrackLog:
     """Broken bonds in the order they broke: ``time`` [s], ``position`` (K, 3) [m], ``i``, ``j``, ``mode``

@@ -26,8 +26,6 @@ from abrakit.dem.integrate import _local_damping
 from abrakit.dem.state import Particles
 from abrakit.validation import check_positive, number_arguments
 
-__all__ = ["Clumps", "clump_particles", "dyad", "make_clumps", "peanut", "rotation_from_vector"]
-
 
 def dyad(radius: float, spacing: float | None = None):
     """Two equal spheres with centres ``spacing`` apart (default: one radius, a strongly overlapping pair).

@@ -28,6 +28,7 @@ from typing import NamedTuple
 import numpy as np
 from numpy.typing import ArrayLike
 
+from abrakit.identification import series_stiffness
 from abrakit.validation import (
     check_number_fields,
     check_poisson,
@@ -36,16 +37,6 @@ from abrakit.validation import (
     check_shape,
     number_arguments,
 )
-
-__all__ = [
-    "ContactForces",
-    "HertzMindlin",
-    "Linear",
-    "force_displacement",
-    "hertz_normal_coefficient",
-    "hertz_shear_coefficient",
-    "series_stiffness",
-]
 
 
 def _rowdot(a, b):
@@ -93,18 +84,6 @@ def _turn_into_plane(vec, n):
         after[again] = np.sqrt(_dot(vec[:, again], vec[:, again]))
     vec *= np.divide(before, after, out=np.zeros_like(after), where=after > PLANE_TOL * before)
     return vec
-
-
-def series_stiffness(ka, kb):
-    """Two springs in series, K = k_A k_B / (k_A + k_B), Eq. (4.11)/(4.12) [N/m]; a rigid (inf) side gives k_A.
-
-    Each stiffness lies in [0, inf] (0: no spring, inf: rigid); NaN or a negative value is refused."""
-    ka, kb = np.asarray(ka, float), np.asarray(kb, float)
-    for name, k in (("ka", ka), ("kb", kb)):
-        if k.size and not k.min() >= 0.0:                       # one pass: a NaN fails the comparison too
-            raise ValueError(f"{name} must lie in [0, inf] (a stiffness, N/m), got {k[np.isnan(k) | (k < 0)][:3]}")
-    with np.errstate(divide="ignore"):                        # 1/0 = inf: a side without spring gives 0
-        return 1.0 / (1.0 / ka + 1.0 / kb)
 
 
 def hertz_normal_coefficient(shear_modulus, poisson, r_tilde):

@@ -18,8 +18,6 @@ from numpy.typing import ArrayLike
 
 from abrakit.validation import check_range, check_shape, number_arguments
 
-__all__ = ["critical_time_step", "local_damping", "particle_stiffness"]
-
 
 @number_arguments
 def local_damping(force: ArrayLike, velocity: ArrayLike, alpha: float):

@@ -16,11 +16,10 @@ import math
 
 import numpy as np
 
-from ..compiled import HAVE_NUMBA, njit
+from ..compiled import HAVE_NUMBA as HAVE_NUMBA  # whether the kernels below compile (read by their callers)
+from ..compiled import njit
 from ..fatigue._return_kernel import elastic_stresses, surface_size, yield_function
 from .contact_laws import PLANE_TOL, RETURN_TOL
-
-__all__ = ["HAVE_NUMBA"]
 
 
 @njit(cache=True, inline="always")

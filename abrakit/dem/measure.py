@@ -7,7 +7,8 @@
   sign). In static equilibrium it equals the wall stress (boundary-traction average);
 - strain from wall positions, ε = (L − L₀)/L₀ per box axis (extension positive);
 - coordination number Z = 2C/N, the mechanical one Z_m = (2C − N₁)/(N − N₀ − N₁) without rattlers, and the
-  contact density ρ_c = n_c/V (Eq. 5.29);
+  contacts per particle (:func:`contact_counts`; their sum over 2 gives n_c of the contact density
+  ρ_c = n_c/V, Eq. 5.29, :func:`abrakit.identification.measured_contact_density`);
 - the energy balance of :class:`~abrakit.dem.simulation.EnergyAccount`.
 """
 
@@ -17,20 +18,6 @@ import numpy as np
 
 from abrakit.dem.contact_laws import _rowdot
 from abrakit.validation import check_positive
-
-__all__ = [
-    "box_strain",
-    "contact_counts",
-    "contact_density",
-    "coordination_number",
-    "energy_balance",
-    "kinetic_energy",
-    "love_weber_stress",
-    "porosity",
-    "relax",
-    "unbalanced_force_ratio",
-    "wall_stress",
-]
 
 
 def wall_stress(sim, wall, area: float | None = None) -> float:
@@ -102,11 +89,6 @@ def coordination_number(sim, *, mechanical: bool = False) -> float:
     n0, n1 = np.sum(counts == 0), np.sum(counts == 1)
     active = len(counts) - n0 - n1
     return float((total - n1) / active) if active > 0 else 0.0
-
-
-def contact_density(sim, volume: float) -> float:
-    """ρ_c = n_c / V, contacts per volume [1/m³] (Eq. 5.29)."""
-    return float(contact_counts(sim).sum() / 2) / check_positive("volume", volume)
 
 
 def porosity(sim, volume: float) -> float:

@@ -16,8 +16,6 @@ from scipy.spatial import cKDTree
 from abrakit.dem.state import ContactSet, pair_keys
 from abrakit.validation import check_finite, check_positive, number_arguments
 
-__all__ = ["VerletList", "candidate_pairs"]
-
 
 @number_arguments
 def candidate_pairs(x: ArrayLike, radius: ArrayLike, skin: float, clump=None, periodic=None, compiled=False):
@@ -29,10 +27,13 @@ def candidate_pairs(x: ArrayLike, radius: ArrayLike, skin: float, clump=None, pe
     cell): the same pairs from the cell list :func:`abrakit.dem.kernels.cell_list_pairs`, about twice as fast.
     Returned sorted by ``(i, j)``.
     """
-    if len(x) < 2:
-        return np.zeros(0, np.int64), np.zeros(0, np.int64)
     check_finite("x", x)                     # an inf position would reach the tree's own "data must be finite"
     check_positive("skin", skin, allow_zero=True)
+    if np.shape(radius) != np.shape(x)[:1]:
+        raise ValueError(f"radius must hold one entry per row of x ({len(x)}), got shape {np.shape(radius)}")
+    check_positive("radius", radius, allow_zero=True)
+    if len(x) < 2:
+        return np.zeros(0, np.int64), np.zeros(0, np.int64)
     if compiled and periodic is None:
         from abrakit.dem.kernels import cell_list_pairs
 

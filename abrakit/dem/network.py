@@ -33,9 +33,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from abrakit.dem.contact_laws import _dot
-from abrakit.dem.periodic import VOIGT, ElasticConstants, elastic_constants
-
-__all__ = ["affine_stiffness", "network_stiffness"]
+from abrakit.dem.periodic import VOIGT, ElasticConstants
 
 SLIDING = 1.0 - 1e-9
 """|F^t| ≥ SLIDING · μ F^n: a contact at the Coulomb limit (its tangential spring does not resist a small strain)."""
@@ -85,7 +83,7 @@ def _affine(D, K) -> np.ndarray:
     return np.einsum("cak,cab,cbm->km", D, K, D)
 
 
-def affine_stiffness(sim) -> np.ndarray:
+def affine_network_stiffness(sim) -> np.ndarray:
     """A/V: the (6, 6) Voigt stiffness of the affine deformation (no fluctuations, no rotations) [Pa]."""
     _, _, _, l, _, _, K = contact_stiffness_terms(sim)
     return _affine(_strain_map(l), K) / _volume(sim)
@@ -142,6 +140,6 @@ def network_stiffness(sim) -> ElasticConstants:
     H = H + sp.diags(REGULARISATION * H.diagonal())
     B = B[free]
     if np.abs(B).max() <= 1e-9 * np.abs(b_local).max():      # balanced contacts: the affine field is in equilibrium
-        return elastic_constants(A / volume)                  # (a lattice; B is round-off and H may have gears)
+        return ElasticConstants.from_stiffness(A / volume)    # (a lattice; B is round-off and H may have gears)
     X = DirectSolver(check_tol=1e-10).solve(H.tocsr(), B)
-    return elastic_constants((A - B.T @ X) / volume)
+    return ElasticConstants.from_stiffness((A - B.T @ X) / volume)

@@ -19,8 +19,6 @@ import numpy as np
 from abrakit.dem.measure import contact_counts, coordination_number
 from abrakit.io import CurveWriter, VtuSeries
 
-__all__ = ["HistoryWriter", "VtuWriter", "callbacks", "default_history"]
-
 
 class VtuWriter:
     """Write the particles (and force-carrying contacts) of ``sim`` to ``directory/stem_00000.vtu`` …"""

@@ -26,10 +26,10 @@ velocities in the contact laws. A test checks the stress change right after the 
 affine stiffness with both springs.
 
 :func:`elastic_probe` applies the six strains of Voigt notation in turn (three normal, three shear), relaxes, and
-reads the change of the Love–Weber stress: the 6 × 6 stiffness C of the cell. :func:`elastic_constants` turns
-any such C into E and ν of its isotropic projection (bulk K = C_iijj/9, shear G = (C_ijij − C_iijj/3)/10),
-C11 and C12 of its normal block, and an anisotropy measure; the exact network response of
-:mod:`abrakit.dem.network` gives the same quantities without dynamics.
+reads the change of the Love–Weber stress: the 6 × 6 stiffness C of the cell.
+:meth:`ElasticConstants.from_stiffness` turns any such C into E and ν of its isotropic projection (bulk
+K = C_iijj/9, shear G = (C_ijij − C_iijj/3)/10), C11 and C12 of its normal block, and an anisotropy measure;
+the exact network response of :mod:`abrakit.dem.network` gives the same quantities without dynamics.
 """
 
 from __future__ import annotations
@@ -41,9 +41,7 @@ from typing import NamedTuple
 import numpy as np
 from numpy.typing import ArrayLike
 
-from abrakit.validation import check_positive, number_arguments
-
-__all__ = ["ElasticConstants", "Periodic", "VOIGT", "elastic_constants", "elastic_probe", "strain_tensor"]
+from abrakit.validation import check_finite, check_option, check_positive, number_arguments
 
 VOIGT = ((0, 0), (1, 1), (2, 2), (1, 2), (0, 2), (0, 1))
 """Index pairs of Voigt notation: σ = (σ_xx, σ_yy, σ_zz, σ_yz, σ_xz, σ_xy), ε with engineering shears γ = 2ε_ab."""
@@ -162,7 +160,7 @@ class Periodic:
 
 
 class ElasticConstants(NamedTuple):
-    """Elastic constants of a packing [Pa] (ν and the anisotropy dimensionless): :func:`elastic_constants`."""
+    """Elastic constants of a packing [Pa] (ν and the anisotropy dimensionless): :meth:`from_stiffness`."""
 
     E: float                  # Young's modulus of the isotropic projection
     nu: float                 # Poisson's ratio of the isotropic projection
@@ -175,30 +173,31 @@ class ElasticConstants(NamedTuple):
     shear: float              # G = (C_ijij − C_iijj/3) / 10
     anisotropy: float         # |C − C_iso| / |C| in Mandel notation (0 for an isotropic C)
 
+    @classmethod
+    def from_stiffness(cls, C) -> ElasticConstants:
+        """E, ν and the rest of :class:`ElasticConstants` from a (6, 6) Voigt stiffness ``C`` (engineering shears).
 
-def elastic_constants(C) -> ElasticConstants:
-    """E, ν and the rest of :class:`ElasticConstants` from a (6, 6) Voigt stiffness ``C`` (engineering shears).
+        The isotropic projection is :func:`abrakit.identification.isotropic_part` (the closest isotropic tensor in
+        the Mandel norm: K = C_iijj/9, G = (C_ijij − C_iijj/3)/10), so the DEM's numbers and the closed forms of
+        Eq. (5.20) are compared by one definition.
+        """
+        from abrakit.identification import isotropic_part
 
-    The isotropic projection is :func:`abrakit.identification.isotropic_part` (the closest isotropic tensor in
-    the Mandel norm: K = C_iijj/9, G = (C_ijij − C_iijj/3)/10), so the DEM's numbers and the closed forms of
-    Eq. (5.20) are compared by one definition.
-    """
-    from abrakit.identification import isotropic_part
-
-    C = np.asarray(C, dtype=float)
-    if C.shape != (6, 6) or not np.all(np.isfinite(C)):
-        raise ValueError(f"C must be a finite (6, 6) Voigt stiffness, got shape {C.shape}")
-    C = 0.5 * (C + C.T)
-    E, nu, anisotropy = (float(v) for v in isotropic_part(C))
-    normal = C[:3, :3]
-    lateral = np.array([np.mean([normal[b, a] for b in range(3) if b != a]) for a in range(3)])
-    return ElasticConstants(E, nu, float(np.mean(np.diag(normal))), float(normal[~np.eye(3, dtype=bool)].mean()),
-                            np.diag(normal).copy(), lateral, C, E / (3.0 * (1.0 - 2.0 * nu)), E / (2.0 * (1.0 + nu)),
-                            anisotropy)
+        C = np.asarray(C, dtype=float)
+        if C.shape != (6, 6) or not np.all(np.isfinite(C)):
+            raise ValueError(f"C must be a finite (6, 6) Voigt stiffness, got shape {C.shape}")
+        C = 0.5 * (C + C.T)
+        E, nu, anisotropy = (float(v) for v in isotropic_part(C))
+        normal = C[:3, :3]
+        lateral = np.array([np.mean([normal[b, a] for b in range(3) if b != a]) for a in range(3)])
+        return cls(E, nu, float(np.mean(np.diag(normal))), float(normal[~np.eye(3, dtype=bool)].mean()),
+                   np.diag(normal).copy(), lateral, C, E / (3.0 * (1.0 - 2.0 * nu)), E / (2.0 * (1.0 + nu)), anisotropy)
 
 
 def voigt_strain(k: int, strain: float) -> np.ndarray:
     """The (3, 3) strain of Voigt component ``k`` with value ``strain`` (a shear: γ = ``strain``)."""
+    check_option("k", k, range(6))
+    strain = check_finite("strain", strain)
     a, b = VOIGT[k]
     eps = np.zeros((3, 3))
     eps[a, b] = eps[b, a] = strain if a == b else 0.5 * strain
@@ -214,7 +213,8 @@ def elastic_probe(sim, strain: float = 1e-8, *, max_steps: int = 20_000, tol: fl
     ``max_steps`` steps, until the unbalanced-force ratio (:func:`~abrakit.dem.measure.unbalanced_force_ratio`)
     is below ``tol``; use local damping), read σ¹, and go back to the starting state. Column k of C is
     (σ¹ − σ⁰)/``strain`` in Voigt order; E and ν are those of its isotropic projection
-    (:func:`elastic_constants`). Stresses are the Love–Weber averages over the cell, tension positive.
+    (:meth:`ElasticConstants.from_stiffness`). Stresses are the Love–Weber averages over the cell, tension
+    positive.
     Warns when a relaxation stops above ``tol``.
 
     The default strain, 10⁻⁸, is small enough that no contact opens or slides: the probe then measures the
@@ -244,4 +244,4 @@ def elastic_probe(sim, strain: float = 1e-8, *, max_steps: int = 20_000, tol: fl
             warnings.warn(f"elastic_probe: relaxation of Voigt component {k} stopped at an unbalanced-force ratio "
                           f"{worst:.2g} > tol = {tol:g} after max_steps = {max_steps}", RuntimeWarning,
                           stacklevel=2)
-    return elastic_constants(C)
+    return ElasticConstants.from_stiffness(C)

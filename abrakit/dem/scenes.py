@@ -26,17 +26,6 @@ from abrakit.dem.state import Particles, sphere_mass
 from abrakit.dem.walls import Walls
 from abrakit.validation import check_finite, check_option, check_positive, check_range, number_arguments
 
-__all__ = [
-    "bonded_chain_wave",
-    "bonded_pair",
-    "dense_packing",
-    "impact_analytic",
-    "rolling_sphere",
-    "settling",
-    "sphere_wall_impact",
-    "two_sphere_impact",
-]
-
 
 def impact_analytic(kn, mass, velocity, damping_ratio=0.0, local_damping=0.0) -> dict:
     """Closed-form normal impact of a linear spring–dashpot contact with effective mass ``mass`` [kg].

@@ -36,8 +36,6 @@ from abrakit.dem.walls import Walls
 from abrakit.io import progress_bar
 from abrakit.validation import check_finite, check_option, check_positive, check_range
 
-__all__ = ["COMPILED_SCATTER", "EnergyAccount", "ParticleEscapeError", "Simulation", "TimeStepError"]
-
 #: Largest distance a particle may travel in one step, as a fraction of the smallest radius (automatic Δt).
 MAX_TRAVEL = 0.25
 

@@ -28,8 +28,6 @@ from numpy.typing import ArrayLike
 
 from abrakit.validation import check_finite, check_positive, check_range, check_shape, number_arguments
 
-__all__ = ["ContactSet", "Particles", "pair_keys", "sphere_mass", "sphere_inertia"]
-
 
 @number_arguments
 def sphere_mass(radius: ArrayLike, density: ArrayLike):

@@ -19,8 +19,6 @@ import numpy as np
 
 from abrakit.validation import check_finite, check_number_fields, check_positive, check_range
 
-__all__ = ["Servo", "Walls"]
-
 
 class Walls:
     """A set of ``W`` planar walls as arrays (``point``, ``normal``, ``velocity``, ``kn``, ``kt``, ``friction``).

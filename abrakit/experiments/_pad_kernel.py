@@ -11,8 +11,6 @@ import numpy as np
 
 from ..compiled import njit
 
-__all__: list[str] = []
-
 
 @njit(cache=True)
 def pad_contacts(x, radius, x0, y, theta, side, pad, k):  # pragma: no cover - compiled where numba is installed

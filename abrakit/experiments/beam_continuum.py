@@ -26,8 +26,6 @@ from skfem.models.elasticity import lame_parameters, linear_elasticity
 from abrakit.experiments.bending import BeamSpec, flexural
 from abrakit.validation import check_poisson, check_positive, check_range
 
-__all__ = ["continuum_flexural_modulus"]
-
 
 def _grid(edges, h):
     """Grid lines through all ``edges``, at most ``h`` apart."""

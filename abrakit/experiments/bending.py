@@ -68,11 +68,6 @@ from abrakit.validation import (
     number_arguments,
 )
 
-__all__ = ["FAILURE_SAG", "QUASI_STATIC_TOLERANCE", "SEATING", "STAGES", "Beam", "BeamSpec",
-           "beam_theory_deflection", "cyclic_bending", "flexural", "four_point_beam", "measured_cycles",
-           "monotonic_bending", "procedure_fingerprint", "scaled_strengths", "stage_slopes", "static_deflection",
-           "table_two", "uniaxial_modulus"]
-
 MODULUS = 1.55e9        # E_c of Table 2 [Pa]
 SEATING = 0.1           # the rockers' default load_min_ratio: the seating load one-sided supports need
 STIFFNESS_RATIO = 2.4   # k_n / k_s of Table 2
@@ -646,6 +641,8 @@ def stage_slopes(measured_at: ArrayLike, modulus_ratio: ArrayLike, life: float, 
                                                                          ("modulus_ratio", modulus_ratio)))
     if n.ndim != 1 or n.shape != ratio.shape:
         raise ValueError(f"measured_at and modulus_ratio must be 1-D of one length, got {n.shape} and {ratio.shape}")
+    if np.unique(n).size < 2 or n.min() < 0:
+        raise ValueError(f"measured_at must hold cycle counts >= 0, at least two distinct, got {measured_at!r}")
     check_positive("life", life)
     low, high = (float(b) for b in bounds)
     if not 0.0 < low < high < 1.0:

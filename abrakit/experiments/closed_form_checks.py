@@ -25,12 +25,9 @@ from numpy.typing import ArrayLike
 from scipy import stats
 
 from abrakit import identification
-from abrakit.experiments.compression import SCHEMES, elastic_test, force_carrying_contacts, strength_test
-from abrakit.experiments.specimen import Material, SpecimenSpec, genesis
+from abrakit.experiments.compression import elastic_test, force_carrying_contacts, strength_test
+from abrakit.experiments.specimen import DemMaterial, SpecimenSpec, genesis
 from abrakit.validation import check_positive, check_range, number_arguments
-
-__all__ = ["BOND_CASES", "DEMO_SPEC", "MIXTURE", "bond_strength_case", "contact_statistics", "demo", "elastic_case",
-           "elastic_predictions", "envelope_case", "mean_interval", "mohr_coulomb_fit"]
 
 #: Table 5.3: (f^{n,c}, f^{t,c}) as multiples of the base strength f
 BOND_CASES = {1: (1.0, 1.0), 2: (100.0, 1.0), 3: (1.0, 100.0)}
@@ -145,7 +142,7 @@ def elastic_case(params: dict) -> dict:
     specimen = genesis(spec, cache=params.get("cache", True))
     material = spec.material()
     if params.get("bonded", False):
-        material = material.with_bonds(1e30, 1e30, gap=params.get("bond_gap", Material.bond_gap))
+        material = material.with_bonds(1e30, 1e30, gap=params.get("bond_gap", DemMaterial.bond_gap))
     result = elastic_test(specimen, material, params.get("confinement"),
                           window_fraction=params.get("window_fraction", 0.1),
                           crossings=params.get("crossings", 40.0), tolerance=params.get("tolerance", 1e-6))
@@ -190,7 +187,7 @@ def bond_strength_case(params: dict) -> dict:
     target = check_positive("target_stress", params.get("target_stress", 100e6))
     f = target / (contacts["rho_c"] * contacts["radius"])
     fn, ft = (m * f for m in BOND_CASES[case])
-    material = spec.material().with_bonds(fn, ft, gap=params.get("bond_gap", Material.bond_gap))
+    material = spec.material().with_bonds(fn, ft, gap=params.get("bond_gap", DemMaterial.bond_gap))
     result = strength_test(specimen, material, params.get("confinement", 0.0), max_strain=0.05,
                            inertial_number=params.get("inertial_number", 1e-3))
     curve = result["curve"]
@@ -250,7 +247,7 @@ def envelope_case(params: dict) -> dict:
             probe, _ = specimen.prepare(material)
             contacts = contact_statistics(probe, params.get("margin", 1.5))
             f = params.get("target_stress", 100e6) / (contacts["rho_c"] * contacts["radius"])
-        material = material.with_bonds(f, f, gap=params.get("bond_gap", Material.bond_gap))
+        material = material.with_bonds(f, f, gap=params.get("bond_gap", DemMaterial.bond_gap))
     confinement = float(params.get("confinement", spec.stress))
     result = strength_test(specimen, material, confinement, max_strain=params.get("max_strain", 0.01),
                            inertial_number=params.get("inertial_number", 1e-3))
@@ -264,25 +261,3 @@ def envelope_case(params: dict) -> dict:
 #: the demo's specimen: 150 spheres whose consolidation is accepted (walls within 9 % of σ0; seed 0 ends 20 % off
 #: and would be made anew at every call), so it is cached after the first call
 DEMO_SPEC = SpecimenSpec(n_particles=150, seed=5, aspect=1.5)
-
-
-def demo() -> str:
-    """A 150-sphere specimen (:data:`DEMO_SPEC`): E and ν by the three schemes beside Eq. (5.20)."""
-    spec = DEMO_SPEC
-    specimen = genesis(spec)
-    lines = [f"DEM compression test (Ch. 5.3): {len(specimen)} spheres, porosity after expansion "
-             f"{specimen.info['porosity_expanded']:.3f}, interior after consolidation to σ0 = 1 MPa "
-             f"{specimen.info['porosity_interior']:.3f}"]
-    for label, material in (("granular", spec.material()), ("bonded", spec.material().with_bonds(1e30, 1e30))):
-        result = elastic_test(specimen, material)
-        predicted = elastic_predictions(contact_statistics(result["sim"], margin=1.0))
-        m = result["moduli"]
-        lines.append(f"{label:8s}: E = " + ", ".join(f"{m[s]['E'] / 1e9:.1f}" for s in SCHEMES)
-                     + " GPa (wall, specimen, sphere), ν_wall = " + f"{m['wall']['nu']:.3f}; Eq. (5.20) E = "
-                     + ", ".join(f"{predicted[v]['E'] / 1e9:.1f}" for v in predicted)
-                     + " GPa (published, consistent, affine): the wall E is "
-                     + ", ".join(f"{m['wall']['E'] / predicted[v]['E']:.2f}" for v in predicted) + " of these")
-    lines.append("Verdict: not reproduced, as expected. The measured E lies below every form of Eq. (5.20), which "
-                 "assumes affine contact displacements, and the published form exceeds even the affine bound (book "
-                 "page 'Decisions'); the chapter 'DEM identification' compares the full study")
-    return "\n".join(lines)

@@ -33,16 +33,11 @@ from dataclasses import dataclass, field
 import numpy as np
 from numpy.typing import ArrayLike
 
-from abrakit.dem import love_weber_stress
 from abrakit.dem.contact_laws import _rowdot
-from abrakit.dem.measure import contact_counts
-from abrakit.experiments.specimen import Material, Specimen
+from abrakit.dem.measure import contact_counts, love_weber_stress
+from abrakit.experiments.specimen import DemMaterial, DemSpecimen
 from abrakit.io import progress_bar
-from abrakit.validation import check_option, check_positive, check_range, number_arguments
-
-__all__ = ["CompressionCurve", "Gauges", "SCHEMES", "compression_test", "crack_initiation_stress", "elastic_moduli",
-           "elastic_test", "force_carrying_contacts", "loading_rate", "mean_contact_strain", "peak_strength",
-           "strength_test"]
+from abrakit.validation import check_finite, check_option, check_positive, check_range, check_shape, number_arguments
 
 SCHEMES = ("wall", "specimen", "sphere")
 
@@ -77,6 +72,8 @@ def force_carrying_contacts(sim) -> np.ndarray:
 def sphere_stress(sim, centre, radius: float) -> np.ndarray:
     """Love–Weber stress of the contacts whose contact point lies in the sphere (``centre``, ``radius``), over the
     sphere's volume, compression positive, (3, 3) [Pa] (a PFC measurement sphere, contact-point rule)."""
+    check_shape("centre", check_finite("centre", centre), (3,))
+    check_positive("radius", radius)
     force, branch, point = _touching_contacts(sim)
     d = point - np.asarray(centre, float)[:, None]
     inside = np.einsum("ik,ik->k", d, d) <= radius**2
@@ -213,7 +210,7 @@ def _sliding_fraction(sim) -> float:
 def compression_test(sim, confinement: float, *, strain_rate: float, max_strain: float, records: int = 200,
                      stop_drop: float | None = None, gauges: Gauges | None = None,
                      progress: bool = False) -> CompressionCurve:
-    """Move the platens of a prepared specimen (:meth:`Specimen.prepare`) at ε̇ = ``strain_rate`` [1/s] until the
+    """Move the platens of a prepared specimen (:meth:`DemSpecimen.prepare`) at ε̇ = ``strain_rate`` [1/s] until the
     axial strain reaches ``max_strain`` or, with ``stop_drop`` = α, the deviatoric stress has fallen below
     α·max|σ_d| after its peak (the seed's termination for bonded material). ``records`` readings are taken."""
     check_positive("strain_rate", strain_rate)
@@ -312,7 +309,7 @@ def loading_rate(sim, window_strain: float, crossings: float = 40.0) -> float:
     return window_strain / (crossings * platen_gap(sim.walls) / speed)
 
 
-def elastic_test(specimen: Specimen, material: Material | None = None, confinement: float | None = None, *,
+def elastic_test(specimen: DemSpecimen, material: DemMaterial | None = None, confinement: float | None = None, *,
                  window_fraction: float = 0.1, crossings: float = 40.0, strain_rate: float | None = None,
                  records: int = 60, tolerance: float = 1e-6, kernel: str | None = None) -> dict:
     """A small-strain compression test for E and ν by the three schemes (Fig. 5.2, Eq. 5.27, 5.28).
@@ -335,7 +332,7 @@ def elastic_test(specimen: Specimen, material: Material | None = None, confineme
             "sliding": float(curve.sliding[-1]), "sim": sim, "prepare": prep}
 
 
-def strength_test(specimen: Specimen, material: Material | None = None, confinement: float | None = None, *,
+def strength_test(specimen: DemSpecimen, material: DemMaterial | None = None, confinement: float | None = None, *,
                   max_strain: float = 0.01, strain_rate: float | None = None, inertial_number: float = 1e-3,
                   stop_drop: float | None = None, records: int = 200, kernel: str | None = None) -> dict:
     """A compression test to failure: peak strength σ_f, crack-initiation stress σ_ci (bonded) and the curve.

@@ -57,22 +57,6 @@ from abrakit.dem.kernels import HAVE_NUMBA
 from abrakit.dem.measure import unbalanced_force_ratio
 from abrakit.validation import check_finite, check_option, check_positive, check_range, check_shape
 
-__all__ = [
-    "SEED_COEFFICIENT",
-    "contact_census",
-    "contacting_case",
-    "count_touching",
-    "demo",
-    "fit_contact_coefficient",
-    "fit_mixture_exponent",
-    "floor_profile",
-    "loose_column",
-    "pressed_bed",
-    "seed_exponents",
-    "touching_mask",
-    "unbalanced_force_ratio",
-]
-
 SEED_COEFFICIENT = 0.9
 """a in N_c = a D⁻², Eq. (8.7)."""
 
@@ -492,16 +476,3 @@ def fit_mixture_exponent(theta, count, area, diameter, *, a=None) -> dict:
     cov = np.linalg.inv(fisher)                     # parameters (log a, α)
     return {"alpha": float(alpha), "alpha_stderr": float(np.sqrt(cov[1, 1])), "a": float(a_hat),
             "a_stderr": float(a_hat * np.sqrt(cov[0, 0]))}
-
-
-def demo() -> str:
-    """A small pressed bed (6 × 6 diameters, 3 layers): the count on its floor against Eq. (8.7)."""
-    D, L = 1e-3, 6e-3
-    sim, bed = pressed_bed(D, box=L, layers=3, seed=0)
-    census = contact_census(sim, wall_zone=D, tol=1e-3 * D)["all"]
-    return (f"How many grains touch the tool (Ch. 8.3): {bed['coarse_grains']} frictionless grains of D = 1 mm "
-            f"settled and pressed at 10 kPa in a {L / D:.0f} x {L / D:.0f} D box ({bed['steps']} steps, "
-            f"{bed['seconds']:.1f} s)\n"
-            f"{census['count']} grains touch the {(L - 2 * D) / D:.0f} x {(L - 2 * D) / D:.0f} D^2 floor window "
-            f"without the wall zones: N_c D^2 = {census['N_c_D2']:.3f} (Eq. 8.7: {SEED_COEFFICIENT}; one bed this "
-            "small scatters by about +-0.04 from the mean of many)")

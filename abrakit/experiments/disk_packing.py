@@ -25,8 +25,6 @@ from abrakit.dem.walls import Walls
 from abrakit.experiments.specimen import random_placement
 from abrakit.validation import check_positive, check_range, number_arguments
 
-__all__ = ["disk_packing", "fuller_passing", "fuller_radii", "wall_stress"]
-
 
 def _check_grading(smallest, largest, exponent):
     check_positive("smallest", smallest)
@@ -60,6 +58,7 @@ def fuller_radii(rng, smallest: float, largest: float, area: float, *, exponent:
 def wall_stress(sim: Simulation, thickness: float) -> float:
     """Mean compressive stress on the four in-plane walls of a planar box [Pa]: force per edge length ×
     ``thickness``."""
+    check_positive("thickness", thickness)
     lengths = sim.walls.box_lengths()
     stress = [sim.walls.normal_force(k) / (lengths[1 - a] * thickness)
               for a, axis in enumerate("xy") for k in sim.walls.box_axes[axis]]

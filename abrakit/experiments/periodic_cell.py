@@ -30,16 +30,14 @@ from abrakit.dem import (
     Simulation,
     coordination_number,
     elastic_probe,
-    love_weber_stress,
     relax,
     unbalanced_force_ratio,
 )
+from abrakit.dem.measure import love_weber_stress
 from abrakit.dem.network import network_stiffness
 from abrakit.experiments.closed_form_checks import contact_statistics, elastic_predictions
 from abrakit.experiments.specimen import SpecimenSpec, grains, random_placement
 from abrakit.validation import check_positive
-
-__all__ = ["consolidate_cell", "periodic_elastic_case", "periodic_elastic_cases", "periodic_genesis"]
 
 
 def mean_pressure(sim) -> float:

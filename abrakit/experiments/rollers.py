@@ -35,8 +35,6 @@ import numpy as np
 from abrakit.compiled import HAVE_NUMBA
 from abrakit.validation import check_finite, check_option, check_positive, check_range
 
-__all__ = ["COMPILED_CONTACTS", "Rollers"]
-
 COMPILED_CONTACTS = HAVE_NUMBA
 """Whether :meth:`Rollers.contact_forces` runs the compiled loop (:mod:`abrakit.experiments._pad_kernel`; where
 numba is installed) or the NumPy version; both give the same forces."""

@@ -14,14 +14,14 @@ The seed's procedure (PFC's "material genesis", Potyondy & Cundall 2004), step b
    of stiff spheres expanded to η = 35 % in a vessel carries a large locked-in stress, so the walls are moved out
    slowly (at most ``1e-4`` mean radii per step, a quasi-static release) until the wall stresses equal σ₀; the
    porosity after consolidation is measured and reported, not imposed;
-5. the micro-parameters (friction, bonds) are assigned afterwards by :meth:`Specimen.prepare`, which
+5. the micro-parameters (friction, bonds) are assigned afterwards by :meth:`DemSpecimen.prepare`, which
    re-equilibrates under servo walls, installs **contact bonds** between near neighbours for bonded material, brings
    the specimen to the test's confinement and, for unconfined tests, **removes the lateral walls**.
 
 Particle stiffness follows PFC3D's convention k_n = 4 r E_c (so two equal spheres in series give K^n = 2 r E_c and
 the macroscopic modulus does not depend on the particle size), k_s = k_n / (k_n/k_s). Units SI.
 
-A :class:`Specimen` (positions, radii, vessel) is written to ``<cache>/specimen_<key>.npz``; the key hashes every
+A :class:`DemSpecimen` (positions, radii, vessel) is written to ``<cache>/specimen_<key>.npz``; the key hashes every
 parameter of the :class:`SpecimenSpec`, :data:`GENESIS_VERSION` and the source of the procedure
 (:func:`genesis_fingerprint`), so tests, benchmarks and the book reuse the same specimen and a change of the
 procedure never serves a stale one. The cache directory is ``$ABRAKIT_CACHE`` or ``~/.cache/abrakit``.
@@ -47,7 +47,6 @@ from scipy.spatial import cKDTree
 
 import abrakit.dem
 from abrakit.dem import (
-    ContactSet,
     Particles,
     Simulation,
     Walls,
@@ -55,7 +54,8 @@ from abrakit.dem import (
     install_contact_bonds,
     porosity,
 )
-from abrakit.dem.measure import contact_counts, relax, unbalanced_force_ratio
+from abrakit.dem.measure import contact_counts, relax
+from abrakit.dem.state import ContactSet
 from abrakit.io import dumps, loads, source_fingerprint, write_atomically
 from abrakit.validation import (
     check_finite,
@@ -65,19 +65,6 @@ from abrakit.validation import (
     check_range,
     number_arguments,
 )
-
-__all__ = [
-    "GENESIS_VERSION",
-    "Material",
-    "Specimen",
-    "SpecimenSpec",
-    "cache_dir",
-    "genesis",
-    "genesis_fingerprint",
-    "interior_porosity",
-    "relax",
-    "unbalanced_force_ratio",
-]
 
 #: bumped whenever the genesis procedure changes, so cached specimens of an older procedure are not reused
 GENESIS_VERSION = 1
@@ -97,21 +84,21 @@ MAX_STEPS = 10_000
 #: balance with every wall within 5 %, but it seldom gets there: the default specimen, continued to 40 000 steps,
 #: balances to 1.3 % while its walls stay 2-7 % from σ0 (each wall's proportional servo chasing its own error in a
 #: frictionless packing that keeps flowing), so it runs all its steps and ends near these limits (ratio 0.06-0.09,
-#: walls within 11 %); :meth:`Specimen.prepare` then balances to 1 % with friction.
+#: walls within 11 %); :meth:`DemSpecimen.prepare` then balances to 1 % with friction.
 ACCEPTED_RATIO = 0.1
 ACCEPTED_STRESS = 0.15
 
 
 @dataclass(frozen=True)
-class Material:
+class DemMaterial:
     """Micro-parameters assigned after genesis (Table 5.4 by default).
 
-    youngs_modulus : E_c [Pa]; particle normal stiffness k_n = 4 r E_c (PFC3D), so K^n = 2 r E_c for equal spheres
-    stiffness_ratio : k_n/k_s (Table 5.4: 2.5)
-    friction : μ (Table 5.4: 0.5)
-    density : ρ [kg/m³] (Table 5.4: 2630)
-    bond_normal_strength, bond_shear_strength : contact-bond strengths f^{n,c}, f^{t,c} [N]; ``None`` for granular
-        (unbonded) material. Bonds join every pair whose gap is at most ``bond_gap`` mean radii.
+    - youngs_modulus : E_c [Pa]; particle normal stiffness k_n = 4 r E_c (PFC3D), so K^n = 2 r E_c for equal spheres
+    - stiffness_ratio : k_n/k_s (Table 5.4: 2.5)
+    - friction : μ (Table 5.4: 0.5)
+    - density : ρ [kg/m³] (Table 5.4: 2630)
+    - bond_normal_strength, bond_shear_strength : contact-bond strengths f^{n,c}, f^{t,c} [N]; ``None`` for granular
+      (unbonded) material. Bonds join every pair whose gap is at most ``bond_gap`` mean radii.
     """
 
     youngs_modulus: float = 70e9
@@ -144,7 +131,7 @@ class Material:
         kn = 4.0 * np.asarray(radius, float) * self.youngs_modulus
         return kn, kn / self.stiffness_ratio
 
-    def with_bonds(self, normal_strength, shear_strength, gap: float | None = None) -> Material:
+    def with_bonds(self, normal_strength, shear_strength, gap: float | None = None) -> DemMaterial:
         """The same material with contact bonds of strengths f^{n,c}, f^{t,c} [N]."""
         return dataclasses.replace(self, bond_normal_strength=float(normal_strength),
                                    bond_shear_strength=float(shear_strength),
@@ -155,17 +142,17 @@ class Material:
 class SpecimenSpec:
     """What a specimen is made of; every field enters the cache key.
 
-    n_particles : number of spheres
-    radius_min, size_ratio : radii uniform in [R_min, R_min · R_max/R_min] [m] (Table 5.4: 0.8 mm, 1.66)
-    porosity : target porosity of the expansion stage (Ch. 5.3.1: 0.35)
-    aspect : vessel height / width (the seed's cylinder: 63.4 / 31.7 = 2)
-    stress : isotropic consolidation stress σ₀ [Pa] (Ch. 5.3.1: about 1 % of the strength)
-    youngs_modulus, stiffness_ratio, density : particle properties during genesis (as in :class:`Material`)
-    seed : random seed of the placement and the radii
-    expansion_steps : number of radius-expansion steps (Ch. 5.3.1: 3)
-    kernel : "numpy" or "numba" (identical to round-off, but a packing is chaotic: part of the key)
-    shapes : fractions of grains that are spheres, dyads and peanuts (Table 5.4 mixture: 0.25, 0.25, 0.5); a clump
-        has the volume of a sphere of the drawn radius (:data:`CLUMP_MEMBER_RADIUS`)
+    - n_particles : number of spheres
+    - radius_min, size_ratio : radii uniform in [R_min, R_min · R_max/R_min] [m] (Table 5.4: 0.8 mm, 1.66)
+    - porosity : target porosity of the expansion stage (Ch. 5.3.1: 0.35)
+    - aspect : vessel height / width (the seed's cylinder: 63.4 / 31.7 = 2)
+    - stress : isotropic consolidation stress σ₀ [Pa] (Ch. 5.3.1: about 1 % of the strength)
+    - youngs_modulus, stiffness_ratio, density : particle properties during genesis (as in :class:`DemMaterial`)
+    - seed : random seed of the placement and the radii
+    - expansion_steps : number of radius-expansion steps (Ch. 5.3.1: 3)
+    - kernel : "numpy" or "numba" (identical to round-off, but a packing is chaotic: part of the key)
+    - shapes : fractions of grains that are spheres, dyads and peanuts (Table 5.4 mixture: 0.25, 0.25, 0.5); a clump
+      has the volume of a sphere of the drawn radius (:data:`CLUMP_MEMBER_RADIUS`)
     """
 
     n_particles: int = 300
@@ -212,11 +199,11 @@ class SpecimenSpec:
                           sort_keys=True)
         return hashlib.sha1(text.encode()).hexdigest()[:16]
 
-    def material(self, **kwargs) -> Material:
-        """A :class:`Material` with this specimen's stiffness and density (granular unless bond strengths given)."""
+    def material(self, **kwargs) -> DemMaterial:
+        """A :class:`DemMaterial` with this specimen's stiffness and density (granular unless bond strengths given)."""
         base = {"youngs_modulus": self.youngs_modulus, "stiffness_ratio": self.stiffness_ratio,
                 "density": self.density}
-        return Material(**{**base, **kwargs})
+        return DemMaterial(**{**base, **kwargs})
 
 
 def dyad_offsets(count: int) -> np.ndarray:
@@ -295,7 +282,7 @@ def interior_porosity(x: ArrayLike, radius: ArrayLike, window: ArrayLike, *, sam
 
 
 @dataclass
-class Specimen:
+class DemSpecimen:
     """A consolidated, frictionless specimen in the vessel ``[0, lengths]``: sphere centres ``x``, ``radius`` and,
     for clumped grains, the clump id of each member sphere.
 
@@ -339,14 +326,14 @@ class Specimen:
         return write_atomically(path, buffer.getvalue())
 
     @classmethod
-    def load(cls, path) -> Specimen:
+    def load(cls, path) -> DemSpecimen:
         with np.load(path) as data:
             spec = SpecimenSpec(**loads(str(data["spec"])))
             return cls(spec, data["x"].copy(), data["radius"].copy(), data["lengths"].copy(),
                        loads(str(data["info"])), data["clump"].copy())
 
     # ----------------------------------------------------------------------------------- tests
-    def simulation(self, material: Material | None = None, *, kernel: str | None = None) -> Simulation:
+    def simulation(self, material: DemMaterial | None = None, *, kernel: str | None = None) -> Simulation:
         """A fresh simulation of this specimen in its vessel (six frictionless walls), with ``material``'s
         stiffness and friction, local damping 0.7 (quasi-static), no bonds yet. The forces rebuild from the
         overlaps, so it starts in the consolidated state."""
@@ -357,7 +344,7 @@ class Specimen:
         return Simulation(p, walls=Walls.box((0.0, 0.0, 0.0), self.lengths), local_damping=0.7,
                           track_energy=False, kernel=kernel or self.spec.kernel)
 
-    def prepare(self, material: Material | None = None, confinement: float | None = None, *,
+    def prepare(self, material: DemMaterial | None = None, confinement: float | None = None, *,
                 kernel: str | None = None, tolerance: float = 1e-3,
                 max_steps: int = 20_000) -> tuple[Simulation, dict]:
         """A specimen ready for a compression test (Ch. 5.3.1, last steps).
@@ -480,12 +467,12 @@ def _grow(sim, factor: float) -> Simulation:
 
 
 def genesis(spec: SpecimenSpec | None = None, *, cache: bool | str | Path = True, progress: bool = False,
-            max_steps: int = MAX_STEPS, **spec_kwargs) -> Specimen:
+            max_steps: int = MAX_STEPS, **spec_kwargs) -> DemSpecimen:
     """Make (or load from the cache) the specimen of ``spec`` (or ``SpecimenSpec(**spec_kwargs)``).
 
     ``cache``: ``True`` uses :func:`cache_dir`, a path uses that directory, ``False`` neither reads nor writes.
     ``max_steps`` bounds the consolidation stage (a quarter of it each expansion stage); frictionless packings
-    near jamming creep, so the consolidation may end unconverged (recorded in ``info``): :meth:`Specimen.prepare`
+    near jamming creep, so the consolidation may end unconverged (recorded in ``info``): :meth:`DemSpecimen.prepare`
     re-equilibrates with friction. A specimen that ends outside the acceptance (:data:`ACCEPTED_RATIO`,
     :data:`ACCEPTED_STRESS`; ``info["consolidation_accepted"]``) is returned with a warning and not cached, and a
     cached one outside it is made anew.
@@ -495,7 +482,7 @@ def genesis(spec: SpecimenSpec | None = None, *, cache: bool | str | Path = True
     if cache:
         stem = spec.key() + ("" if max_steps == MAX_STEPS else f"_steps{int(max_steps)}")
         path = (cache_dir() if cache is True else Path(cache)) / f"specimen_{stem}.npz"
-        if path.exists() and _accepted((cached := Specimen.load(path)).info, spec.stress):
+        if path.exists() and _accepted((cached := DemSpecimen.load(path)).info, spec.stress):
             cached.info.setdefault("consolidation_accepted", True)      # files cached before the flag existed
             return cached
     start = time.perf_counter()
@@ -552,7 +539,7 @@ def genesis(spec: SpecimenSpec | None = None, *, cache: bool | str | Path = True
         "seconds": time.perf_counter() - start,
     })
     info["consolidation_accepted"] = _accepted(info, spec.stress)
-    specimen = Specimen(spec, p.x.copy(), p.radius.copy(), lengths, info, p.clump.copy())
+    specimen = DemSpecimen(spec, p.x.copy(), p.radius.copy(), lengths, info, p.clump.copy())
     if not info["consolidation_accepted"]:
         warnings.warn(f"genesis: the consolidation ended with an unbalanced force ratio of {result['ratio']:.3g} "
                       f"(accepted below {ACCEPTED_RATIO}) and wall stresses {_stress_deviation(info, spec.stress):.1%} "

@@ -50,8 +50,6 @@ from pathlib import Path
 from abrakit.io import dumps, jsonable, loads, progress_bar, read_json, write_json
 from abrakit.validation import check_option
 
-__all__ = ["case_key", "canonical_params", "load_sweep", "run_sweep"]
-
 BACKENDS = ("serial", "joblib", "dask")
 
 

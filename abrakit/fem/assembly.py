@@ -27,8 +27,6 @@ from .kinematics import (
     Kinematics,
 )
 
-__all__ = ["Assembler", "skfem_internal_force", "skfem_tangent"]
-
 # Element matrices are built in chunks of at most this many entries (bounds the temporary memory).
 _CHUNK_ENTRIES = 4_000_000
 # B-matrices of all elements are kept (and element matrices collected for one scatter) below this size:
@@ -37,7 +35,9 @@ CACHE_BYTES = 256 * 2**20
 
 
 class Assembler:
-    """Residual and tangent assembly on a fixed mesh; the CSR pattern is built once and reused::
+    """Residual and tangent assembly on a fixed mesh; the CSR pattern is built once and reused.
+
+    Example::
 
         asm = Assembler(Kinematics.from_mesh(mesh))
         f_int = asm.internal_force(stress)          # stress (nel, nqp, 6) Mandel, MPa

@@ -20,8 +20,6 @@ import skfem
 
 from ..validation import check_finite
 
-__all__ = ["Constraints", "Dirichlet", "boundary_dofs", "node_row_dofs", "surface_load"]
-
 COMPONENT = {"x": 0, "y": 1, "z": 2}
 
 

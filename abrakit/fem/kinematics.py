@@ -28,10 +28,8 @@ import skfem
 from numpy.typing import ArrayLike
 
 from ..compiled import HAVE_NUMBA
-from ..validation import number_arguments
+from ..validation import check_finite, check_indices, check_instance, check_shape, number_arguments
 from . import _fbar_kernels
-
-__all__ = ["FBarKinematics", "Kinematics", "TotalLagrangianKinematics", "vector_basis"]
 
 SQRT1_2 = np.sqrt(0.5)
 
@@ -96,6 +94,14 @@ class Kinematics:
     dx: np.ndarray
     element_dofs: np.ndarray
     bbar: bool = False
+
+    def __post_init__(self):
+        check_instance("basis", self.basis, skfem.CellBasis)
+        grad_N = check_shape("grad_N", check_finite("grad_N", self.grad_N), (None, None, None, None))
+        check_shape("dx", check_finite("dx", self.dx), grad_N.shape[:2])
+        check_shape("element_dofs", check_indices("element_dofs", self.element_dofs, self.basis.N),
+                    (grad_N.shape[0], grad_N.shape[2] * grad_N.shape[3]))
+        check_instance("bbar", self.bbar, (bool, np.bool_))
 
     @classmethod
     def from_basis(cls, basis: skfem.CellBasis, bbar: bool = False, finite_strain: bool = False) -> Kinematics:
@@ -347,6 +353,7 @@ class FBarKinematics(TotalLagrangianKinematics):
     """
 
     def __post_init__(self):
+        super().__post_init__()
         if self.dim != 3:
             raise ValueError("F-bar kinematics are implemented for 3D meshes only")
         object.__setattr__(self, "_memo", [None, None])

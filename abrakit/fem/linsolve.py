@@ -30,9 +30,6 @@ from scipy.sparse.csgraph import reverse_cuthill_mckee
 
 from ..validation import all_finite, check_option, check_positive, check_range, number_arguments
 
-__all__ = ["AMGSolver", "BACKENDS", "DirectSolver", "LinearSolveError", "kept_factor_gmres", "make_linear_solver",
-           "pardiso_available", "rigid_body_modes"]
-
 # 3D problems with more free DOFs than this use AMG under linear_solver="auto" (benchmarks/bench_linear_solvers.py,
 # elastic hex block, factorisation + solve against AMG set-up + CG): with PARDISO 0.79 s vs 1.12 s at 28k DOFs and
 # 7.9 s vs 5.1 s at 90k; with SuperLU alone 4.8 s vs 1.1 s at 28k.
@@ -175,15 +172,8 @@ class _PardisoBackend:
     solution in float32). The factors then give a correction with a relative residual of about 10⁻⁶, which the
     :class:`DirectSolver`'s iterative refinement in double precision (x += K⁻¹(b − K x), the residual computed with
     the double matrix) brings to its ``check_tol`` in one or two solves. Half the bytes move through the
-    factorisation: on a tangent of the scratch's default mesh (19 557 unknowns, 1.4 M entries, two threads; median
-    of six) 157 against 238 ms, 205 against 261 ms for the whole solve with two refinements; over a short scratch
-    run 87 against 121 ms per factorisation. (A short slide has a short fine zone and so a smaller mesh: single
-    factors took 90, 110 and 150 ms (medians) with the default level's 12, 40 and 100 µm slides, 14 250, 18 240 and
-    24 510 DOF, in fresh processes of one hour; 188 ms in the benchmark's 100 µm run of a slower hour.)
-    ``benchmarks/bench_linear_solvers.py`` compares both on elastic blocks (``--quick``, stored in
-    ``results/linear_solvers_quick``): whole solve calls 1.17× faster at 1 764 and 1.55× at 7 260 DOFs in 3D, but
-    0.80–0.97× in 2D, where the factors are too small for the halved bytes to outweigh the refinement's extra
-    solve. So only the 3D scratch asks for it."""
+    factorisation; in 2D the factors are too small for that to outweigh the refinement's extra solve, so only the
+    3D scratch asks for it (``benchmarks/bench_linear_solvers.py`` compares both on elastic blocks)."""
 
     name = "pardiso"
     IPARM = {1: 1, 2: 2, 8: 0, 10: 13, 11: 1, 13: 1, 28: 1}
@@ -254,10 +244,8 @@ def _name_mkl_library() -> None:
 
     Without that variable pypardiso looks for ``mkl_rt`` with ``ctypes.util.find_library`` (subprocesses) and then
     a recursive glob over the whole environment, once when it is imported (its module-level solver) and again at
-    every solver construction: 1.5–5 s per process in a pip-installed venv, measured with cProfile on the scratch
-    (4.9 s of a 73 s coarse-mesh run on a loaded machine; 3.0 against 1.1 s to import and probe PARDISO in an idle
-    one), more than a whole demo scene's Newton iterations. With no such file the variable stays unset and
-    pypardiso searches as before."""
+    every solver construction (seconds per process in a pip-installed venv). With no such file the variable stays
+    unset and pypardiso searches itself."""
     if os.environ.get("PYPARDISO_MKL_RT"):
         return
     import glob
@@ -281,7 +269,7 @@ def pardiso_available() -> bool:
     probe loads the MKL library).
 
     pypardiso looks for ``mkl_rt`` with a recursive glob over the environment at *every* solver construction
-    (0.8–5 s in a pip-installed venv: more than a whole small plastic plate run) unless ``PYPARDISO_MKL_RT`` names
+    unless ``PYPARDISO_MKL_RT`` names
     the library: :func:`_name_mkl_library` names it when this module is imported, and the probe sets it to the
     library pypardiso found otherwise, so later constructions load it directly."""
     try:
@@ -324,7 +312,8 @@ class DirectSolver:
         matrix (:func:`kept_factor_gmres`, at most ``krylov_iterations`` iterations) and returns the first x with
         ‖b − K x‖ ≤ η ‖b‖; only if that fails is K factorised. Newton then converges with corrections of relative
         error η instead of exact ones: to the same solution, in about as many iterations where η is well below the
-        iteration's own contraction (measured on the scratch: see :data:`abrakit.scratch.scene.SCENE_FORCING`).
+        iteration's own contraction (the scratch's :data:`abrakit.scratch.run.SCENE_FORCING`;
+        ``benchmarks/bench_kept_factors.py`` measures it).
         Counters ``krylov_solves`` (corrections taken from it), ``krylov_fallbacks`` (factorised after all) and
         ``gmres_iterations`` (each one solve with the kept factors and one product with K).
 

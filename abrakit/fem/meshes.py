@@ -24,9 +24,6 @@ import skfem
 
 from ..validation import check_positive, check_range, number_arguments
 
-__all__ = ["MeshQuality", "check_quality", "double_notched_specimen", "element_quality", "extrude", "graded",
-           "graded_block", "graded_towards", "plate_with_hole", "ring_sector", "sharp_notch_specimen"]
-
 _TOL = 1e-9
 
 

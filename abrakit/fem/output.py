@@ -16,8 +16,6 @@ from .. import tensors as T
 from ..io import CurveWriter, VtuSeries, dumps, loads, write_atomically
 from ..validation import check_finite
 
-__all__ = ["RunWriter", "load_checkpoint", "load_matching_checkpoint", "save_checkpoint"]
-
 SQRT2 = np.sqrt(2.0)
 _MESHIO_TYPE = {"MeshQuad1": "quad", "MeshTri1": "triangle", "MeshHex1": "hexahedron", "MeshTet1": "tetra"}
 _TENSOR_NAMES = ("xx", "yy", "zz", "yz", "xz", "xy")

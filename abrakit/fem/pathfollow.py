@@ -64,10 +64,8 @@ from ..io import progress_bar
 from ..materials.base import MaterialResponse
 from ..validation import check_finite, check_number_fields, check_option, check_positive, check_range
 from .linsolve import LinearSolveError
-from .solver import NewtonFailure, Solver, SolveResult, StepContext, StepFailed, _Recorder
-
-__all__ = ["ArcLength", "ConstraintSingular", "DissipationControl", "LoadFactorControl", "METHODS", "OpeningControl",
-           "PathControl", "PathFollowingSolver", "PathPoint"]
+from .recorder import RunRecorder
+from .solver import NewtonFailure, Solver, SolveResult, StepContext, StepFailed
 
 METHODS = ("dissipation", "arc-length", "opening")
 
@@ -455,7 +453,7 @@ class PathFollowingSolver(Solver):
         check_range("stop_force", stop_force, 0.0, 1.0, high_open=True)
         check_range("checkpoint_every", checkpoint_every, 0, None)
         ctrl, kin = self.path, self.kin
-        recorder = _Recorder(self, output, vtu_every, ("constraint", "v", "P", "released"),
+        recorder = RunRecorder(self, output, vtu_every, ("constraint", "v", "P", "released"),
                              checkpoint_every=int(checkpoint_every))
         saved = recorder.resume() if resume else None
         if saved is None:

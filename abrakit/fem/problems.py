@@ -32,9 +32,6 @@ from .boundary import Dirichlet, surface_load
 from .kinematics import vector_basis
 from .solver import Solver
 
-__all__ = ["SofteningBar", "TABLE_7_1_PLASTICITY", "ThickCylinderSolution", "element_opening", "kirsch_displacement",
-           "kirsch_stress", "plate_with_hole_problem", "strip", "thick_cylinder_problem", "thick_cylinder_solution"]
-
 #: The plasticity part of Table 7.1 (E, nu, r_p, K_H in MPa), for ``VonMisesPlasticity(**TABLE_7_1_PLASTICITY)``.
 TABLE_7_1_PLASTICITY = {k: TABLE_7_1[k] for k in ("E", "nu", "r_p", "K_H")}
 

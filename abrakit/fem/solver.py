@@ -19,34 +19,39 @@ a new tangent and factorisation. A step that diverges (non-finite values, residu
 is raised with the last converged state (also saved to ``<output>/last_converged.npz``, which a run with
 ``output`` also writes every ``checkpoint_every`` steps; ``run(..., resume=True)`` continues from it).
 
-Hooks for later models: ``loading(ctx) -> dict`` supplies extra keyword arguments to ``material.update`` (e.g. the
-external power for a rate limit), and every ``extra_terms`` item ``term(u, ctx) -> (R_extra, K_extra)`` adds a
-residual vector and a sparse tangent (either may be ``None``), e.g. penalty contact.
+The Newton driver takes its pieces as arguments of :class:`Solver`: ``loading(ctx) -> dict`` supplies extra keyword
+arguments to ``material.update`` (e.g. the external work of a rate limit); every ``extra_terms`` item
+``term(u, ctx) -> (R_extra, K_extra)`` adds a residual vector and a sparse tangent (either may be ``None``), e.g.
+penalty contact; ``linear_solver`` solves K_II du_I = −R_I; ``line_search`` (a :class:`LineSearch`) damps the
+corrections, u ← u + s du; ``diagnose(reason, iterate) -> str`` names the cause of a failed step from the last
+:class:`Iterate`; :meth:`Solver.run` takes ``on_step`` (called after every converged step), ``output`` with
+``checkpoint_every``/``resume`` (:mod:`abrakit.fem.recorder`) or a caller's own ``continuation``.
+
+Example::
+
+    solver = Solver(basis, material, bcs, extra_terms=[contact], line_search=LineSearch())
+    result = solver.run(end=1.0, on_step=contact.on_step)
 """
 
 from __future__ import annotations
 
-import time as _time
 from collections.abc import Callable, Sequence
-from dataclasses import dataclass, field, replace
+from dataclasses import dataclass, replace
 from pathlib import Path
-from typing import Any
+from typing import Any, NamedTuple
 
 import numpy as np
 import scipy.sparse as sp
 
 from ..io import progress_bar
 from ..materials.base import Material
-from ..validation import all_finite, check_number_fields, check_positive, check_range
+from ..validation import all_finite, check_instance, check_number_fields, check_positive, check_range
 from .assembly import Assembler
 from .boundary import Constraints, Dirichlet
 from .kinematics import FBarKinematics, Kinematics
 from .linsolve import DirectSolver, LinearSolveError, make_linear_solver, rigid_body_modes
-from .output import RunWriter, load_matching_checkpoint
+from .recorder import RunRecorder, SolveResult
 from .tangent_reuse import ElementTangentReuse
-
-__all__ = ["NewtonFailure", "NewtonOptions", "SolveResult", "Solver", "StepContext", "StepControl", "StepFailed",
-           "solve"]
 
 
 @dataclass(frozen=True)
@@ -135,47 +140,61 @@ class NewtonFailure(RuntimeError):
         self.residuals = list(residuals)
 
 
-@dataclass
-class SolveResult:
-    """History of a run: one entry per converged step (index 0 is the start state)."""
+class Iterate(NamedTuple):
+    """The last evaluated Newton iterate of a step, for a ``diagnose`` callback: ``u``, the residual R(u)
+    ``(ndof,)``, the step's :class:`StepContext` and the free DOFs."""
 
-    load_factors: np.ndarray
-    times: np.ndarray
-    iterations: np.ndarray
-    curves: dict[str, np.ndarray]
     u: np.ndarray
-    state: dict
-    response: Any
-    f_int: np.ndarray
-    residual_histories: list[list[float]]
-    cutbacks: int
-    wall_time: float
-    output: Path | None = None
-    continuation: dict | None = None
-    """Where :meth:`Solver.run` stands after the last converged step, what ``run(continuation=...)`` needs to go on
-    exactly as this run would: ``u``, ``state``, ``load_factor``, ``f_int``, ``u_prev`` (the step before, for
-    extrapolation) and ``control`` (JSON-able: ``step``, ``delta`` — the next step size —, ``easy``, ``cutbacks``,
-    ``delta_prev``)."""
+    residual: np.ndarray
+    ctx: StepContext
+    free: np.ndarray
 
 
-def continuation_arrays(continuation: dict | None) -> dict:
-    """The arrays of a :attr:`SolveResult.continuation` that a checkpoint keeps beside ``u`` and the state
-    (``f_int``, ``u_prev`` where given); its ``control`` goes into the checkpoint's meta. :func:`continuation_of`
-    reads them back."""
-    if continuation is None:
-        return {}
-    return {k: continuation[k] for k in ("f_int", "u_prev") if continuation[k] is not None}
+@dataclass(frozen=True)
+class LineSearch:
+    """Backtracking line search on the Euclidean norm of the free residual.
 
+    A Newton correction du is taken as s du with the first s = 1, 1/2, 1/4, ... (at most ``max_backtracks``
+    halvings) for which ||R_I(u + s du)||_2 <= (1 − 10⁻⁴ s) ||R_I(u)||_2 (Armijo's sufficient decrease; a full
+    step may also keep the residual up to ``growth_allowed`` times); if none does, the s with the smallest
+    residual. Penalty contact (open/closed, stick/slip) and plasticity (elastic/plastic) make R only piecewise
+    smooth: a full step can jump across a kink, and Newton then cycles between two sets of active points. The
+    evaluation at the accepted point is returned, and :meth:`Solver.newton` reuses it as the next iteration's.
+    """
 
-def continuation_of(saved: dict) -> dict | None:
-    """The :attr:`SolveResult.continuation` kept by a checkpoint (:func:`~abrakit.fem.load_checkpoint`'s dict, its
-    step control in ``meta["control"]``), or ``None`` if it keeps no step control (a phase end, a finished run)."""
-    control = saved["meta"].get("control")
-    if control is None:
-        return None
-    arrays = saved["arrays"]
-    return {"u": saved["u"], "state": saved["state"], "load_factor": saved["load_factor"],
-            "f_int": arrays.get("f_int"), "u_prev": arrays.get("u_prev"), "control": control}
+    max_backtracks: int = 4
+    growth_allowed: float = 1.0
+
+    def __post_init__(self):
+        check_number_fields(self)
+        check_range("max_backtracks", self.max_backtracks, 0, None)
+        check_range("growth_allowed", self.growth_allowed, 1.0, None)
+
+    def __call__(self, evaluate: Callable, u: np.ndarray, du: np.ndarray, free: np.ndarray,
+                 residual: np.ndarray) -> tuple[float, np.ndarray, tuple | None]:
+        """``(s, u + s du, evaluation there or None)`` for the correction ``du`` on the ``free`` DOFs of ``u``;
+        ``evaluate(trial)`` returns a :meth:`Solver.evaluate` tuple, whose second entry is the residual."""
+        norm0 = float(np.linalg.norm(residual[free]))
+        best = None
+        s = 1.0
+        for _ in range(self.max_backtracks + 1):
+            trial = u.copy()
+            trial[free] += s * du
+            try:
+                with np.errstate(all="ignore"):
+                    evaluation = evaluate(trial)
+                norm = float(np.linalg.norm(evaluation[1][free]))
+            except (ArithmeticError, ValueError, np.linalg.LinAlgError):
+                norm, evaluation = np.inf, None
+            if not np.isfinite(norm):
+                norm = np.inf
+            if best is None or norm < best[0]:
+                best = (norm, s, trial, evaluation)
+            if norm <= (self.growth_allowed if s == 1.0 else 1.0 - 1e-4 * s) * norm0:
+                break
+            s *= 0.5
+        _, s, trial, evaluation = best
+        return s, trial, evaluation
 
 
 class StepFailed(RuntimeError):
@@ -190,103 +209,6 @@ class StepFailed(RuntimeError):
         self.reason = reason
         self.result = result
         self.checkpoint = checkpoint
-
-
-@dataclass
-class _History:
-    load_factors: list = field(default_factory=list)
-    times: list = field(default_factory=list)
-    iterations: list = field(default_factory=list)
-    residuals: list = field(default_factory=list)
-    rows: list = field(default_factory=list)
-
-    def add(self, row: dict, iterations: int, residuals: list) -> None:
-        """One converged step: its curve row (holding ``load_factor`` and ``time``) and Newton history."""
-        self.load_factors.append(row["load_factor"])
-        self.times.append(row["time"])
-        self.iterations.append(iterations)
-        self.residuals.append(residuals)
-        self.rows.append(row)
-
-
-class _Recorder:
-    """The history of a run: one row per converged step (load factor, time, iterations, monitored displacements
-    and forces, and any ``extra`` columns), written through a :class:`RunWriter` as it goes when ``output`` is
-    given, and turned into a :class:`SolveResult`. With ``output`` it also saves a checkpoint every
-    ``checkpoint_every`` steps, from which :meth:`resume` takes an interrupted run up again."""
-
-    def __init__(self, solver: Solver, output, vtu_every: int, extra_columns: Sequence[str] = (),
-                 checkpoint_every: int = 0):
-        self.solver = solver
-        self.columns = ["step", "load_factor", "time", "iterations", *extra_columns] + [
-            f"{kind}_{name}" for name in solver.monitors for kind in ("u", "F")]
-        self.output = Path(output) if output is not None else None
-        self.writer = (RunWriter(output, solver.kin.basis.mesh, self.columns, vtu_every)
-                       if output is not None else None)
-        self.checkpoint_every = checkpoint_every
-        self.nodal = np.asarray(solver.kin.basis.nodal_dofs)
-        self.hist = _History()
-        self.t0 = _time.perf_counter()
-        self.last = None
-
-    def record(self, step, lam, u, f_int, response, state, iterations, residuals, **extra) -> None:
-        duration = self.solver.duration
-        row = {"step": step, "load_factor": lam, "time": lam * duration, "iterations": iterations, **extra}
-        for name, dofs in self.solver.monitors.items():
-            row[f"u_{name}"] = float(np.mean(u[dofs])) if dofs.size else 0.0
-            row[f"F_{name}"] = float(np.sum(f_int[dofs]))
-        self.hist.add(row, iterations, residuals)
-        self.last = (u, state, response, f_int)
-        if self.writer is not None:
-            self.writer.write_step(row, lam * duration, u, self.nodal, response.stress, state)
-
-    def result(self, cutbacks: int) -> SolveResult:
-        hist = self.hist
-        u, state, response, f_int = self.last
-        curves = {k: np.array([r[k] for r in hist.rows]) for k in self.columns}
-        return SolveResult(np.array(hist.load_factors), np.array(hist.times), np.array(hist.iterations), curves,
-                           u, state, response, f_int, hist.residuals, cutbacks, _time.perf_counter() - self.t0,
-                           self.output)
-
-    def _fingerprint(self) -> dict:
-        kin = self.solver.kin
-        return {"ndof": int(kin.ndof), "nel": int(kin.nel), "nqp": int(kin.nqp), "columns": self.columns,
-                "duration": float(self.solver.duration)}
-
-    def checkpoint(self, u, state, lam, control: dict | None = None, **arrays) -> Path | None:
-        """Save the last converged step with the history so far, the step control (``control``, JSON-able: the
-        step, step sizes, counters) and the named ``arrays`` it needs (``None`` ones are left out), or nothing
-        without ``output``."""
-        if self.writer is None:
-            return None
-        arrays = {k: v for k, v in arrays.items() if v is not None}
-        hist = self.hist
-        meta = {"fingerprint": self._fingerprint(), "control": control or {},
-                "history": {"rows": hist.rows, "iterations": hist.iterations, "residuals": hist.residuals}}
-        return self.writer.checkpoint(u, state, lam, lam * self.solver.duration, arrays=arrays, meta=meta)
-
-    def due(self, step: int) -> bool:
-        return self.writer is not None and self.checkpoint_every > 0 and step % self.checkpoint_every == 0
-
-    def resume(self) -> dict | None:
-        """The checkpoint in ``output`` with the history restored and the output files rewound to it, or ``None``
-        when there is none. A checkpoint of a different problem (DOFs, elements, points, columns) is refused."""
-        if self.writer is None:
-            return None
-        saved = load_matching_checkpoint(self.writer.checkpoint_path, self._fingerprint())
-        if saved is None:
-            return None
-        meta = saved["meta"]
-        history = meta["history"]
-        for row, iterations, residuals in zip(history["rows"], history["iterations"], history["residuals"],
-                                              strict=True):
-            self.hist.add(row, iterations, residuals)
-        self.writer.restart(history["rows"], meta["output"])
-        return saved
-
-    def close(self) -> None:
-        if self.writer is not None:
-            self.writer.close()
 
 
 class Solver:
@@ -309,6 +231,9 @@ class Solver:
     finite_strain : total-Lagrangian kinematics (:class:`~abrakit.fem.kinematics.TotalLagrangianKinematics`):
         the material then maps the deformation gradient F to P and ∂P/∂F (e.g.
         :class:`~abrakit.materials.LogStrainPlasticity`).
+    line_search : a :class:`LineSearch` damping the Newton corrections, or ``None`` (full corrections).
+    diagnose : ``diagnose(reason, iterate: Iterate | None) -> str``, appended in brackets to the reason of a
+        failed Newton step (``iterate``: the step's last evaluated iterate, ``None`` before the first).
     """
 
     def __init__(self, basis, material: Material, dirichlet: Sequence[Dirichlet] = (), *,
@@ -317,21 +242,28 @@ class Solver:
                  extra_terms: Sequence[Callable] = (),
                  monitors: dict[str, np.ndarray] | None = None,
                  control: StepControl | None = None, newton: NewtonOptions | None = None,
-                 linear_solver="auto", duration: float = 1.0, bbar: bool = False, finite_strain: bool = False):
+                 linear_solver="auto", duration: float = 1.0, bbar: bool = False, finite_strain: bool = False,
+                 line_search: LineSearch | None = None, diagnose: Callable[[str, Iterate | None], str] | None = None):
         self.kin = (basis if isinstance(basis, Kinematics)
                     else Kinematics.from_basis(basis, bbar=bbar, finite_strain=finite_strain))
         self.assembler = Assembler(self.kin)
-        self.material = material
+        self.material = check_instance("material", material, Material)
         self.constraints = Constraints(dirichlet, self.kin.ndof)
         self.constraints.condense_pattern(self.assembler.indptr, self.assembler.indices)
         for name, hook in (("external_force", external_force), ("loading", loading)):
             if hook is not None and not callable(hook):
                 raise TypeError(f"{name} must be a function of the load factor (or context) or None, got {hook!r}")
+        if diagnose is not None and not callable(diagnose):
+            raise TypeError(f"diagnose must be a function diagnose(reason, iterate) -> str or None, got {diagnose!r}")
+        if line_search is not None and not isinstance(line_search, LineSearch):
+            raise TypeError(f"line_search must be a LineSearch or None, got {line_search!r}")
+        self.line_search = line_search
+        self.diagnose = diagnose
         self.external_force = external_force
         self.loading = loading
         self.extra_terms = list(extra_terms)
-        self.control = control or StepControl()
-        self.newton_options = newton or NewtonOptions()
+        self.control = check_instance("control", control, StepControl, optional=True) or StepControl()
+        self.newton_options = check_instance("newton", newton, NewtonOptions, optional=True) or NewtonOptions()
         self.duration = check_positive("duration", duration)
         self.monitors = {c.name: c.dofs for c in self.constraints.conditions if c.name}
         self.monitors.update({k: np.asarray(v, dtype=np.int64) for k, v in (monitors or {}).items()})
@@ -447,22 +379,40 @@ class Solver:
         was not yet small takes a *chord* step, du_I = −K_old⁻¹ R_I with the factors of the step's last tangent
         (a linear solver with ``resolve``, e.g. :class:`~abrakit.fem.DirectSolver`), instead of assembling and
         factorising a new tangent only to confirm convergence. The chord step still moves u and its size is tested
-        like a Newton correction's; if it is not small, the step goes on with full Newton corrections only."""
+        like a Newton correction's; if it is not small, the step goes on with full Newton corrections only.
+
+        With a ``line_search`` every Newton correction (not the lifted predictor, not a chord step) is damped,
+        u ← u + s du, and the search's evaluation at the accepted point is that of the next iteration. A failure
+        (:class:`NewtonFailure`) carries ``diagnose``'s reading of the last iterate in its reason."""
+        last: list[Iterate] = []
+        try:
+            return self._newton_iterations(np.array(u_trial, dtype=float), state_old, ctx, lift, last)
+        except NewtonFailure as failure:
+            if self.diagnose is not None:
+                failure.reason = f"{failure.reason} [{self.diagnose(failure.reason, last[-1] if last else None)}]"
+                failure.args = (failure.reason,)
+            raise
+
+    def _lifted_predictor(self, u, state_old, ctx: StepContext, lift: np.ndarray, last: list) -> np.ndarray:
+        """du_I of K_II du_I = −R_I − K_ID Δu_D at the start of the step (see :meth:`newton`)."""
+        try:
+            response, residual, _, _, extra_K = self.evaluate(u, state_old, replace(ctx, iteration=0, u=u))
+            last.append(Iterate(u.copy(), residual, ctx, self.constraints.free))
+            return self._correction(response, extra_K, residual, new_step=True, lift=lift, u=u)
+        except (ArithmeticError, np.linalg.LinAlgError, LinearSolveError) as exc:
+            raise NewtonFailure(f"lifted predictor failed: {exc}", []) from exc
+
+    def _newton_iterations(self, u, state_old, ctx: StepContext, lift, last: list) -> NewtonResult:
         opts = self.newton_options
         free = self.constraints.free
-        u = np.array(u_trial, dtype=float)
         residuals: list[float] = []
         increment = np.inf
         first = 0
         chord = False                                 # a chord step was taken (one per step at most)
         resolve = getattr(self.linear_solver, "resolve", None) if opts.chord_check else None
+        searched = None                               # (u, evaluation) of the line search's accepted point
         if lift is not None:
-            ctx_0 = replace(ctx, iteration=0, u=u)
-            try:
-                response, residual, _, _, extra_K = self.evaluate(u, state_old, ctx_0)
-                du = Solver._correction(self, response, extra_K, residual, new_step=True, lift=lift, u=u)
-            except (ArithmeticError, np.linalg.LinAlgError, LinearSolveError) as exc:
-                raise NewtonFailure(f"lifted predictor failed: {exc}", residuals) from exc
+            du = self._lifted_predictor(u, state_old, ctx, lift, last)
             # the residual at the old state (≈ 0 for a Dirichlet-driven step) is not part of the convergence history
             u[free] += du
             u += lift
@@ -470,9 +420,14 @@ class Solver:
         for k in range(first, opts.max_iterations + 1):
             ctx_k = replace(ctx, iteration=k, u=u)
             try:
-                response, residual, f_int, scale, extra_K = self.evaluate(u, state_old, ctx_k)
+                if searched is not None and np.array_equal(searched[0], u):
+                    evaluation = searched[1]
+                else:
+                    evaluation = self.evaluate(u, state_old, ctx_k)
             except (ArithmeticError, np.linalg.LinAlgError) as exc:  # e.g. a local iteration that broke down
                 raise NewtonFailure(f"material update failed: {exc}", residuals) from exc
+            response, residual, f_int, scale, extra_K = evaluation
+            last.append(Iterate(u.copy(), residual, ctx_k, free))
             r_free = residual[free]
             norm = np.max(np.abs(r_free), initial=0.0)
             if not (np.isfinite(norm) and np.all(np.isfinite(response.stress))):
@@ -496,11 +451,37 @@ class Solver:
                                                                           new_step=(k == first), u=u)
             except LinearSolveError as exc:
                 raise NewtonFailure(str(exc), residuals) from exc
+            if self.line_search is not None and not take_chord:
+                s, trial, at_trial = self.line_search(
+                    lambda x, ctx_k=ctx_k: self.evaluate(x, state_old, replace(ctx_k, u=x)), u, du, free, residual)
+                du = s * du
+                searched = (trial, at_trial) if at_trial is not None else searched
             u[free] += du
             increment = np.max(np.abs(du), initial=0.0)
         raise AssertionError("unreachable")
 
     # ---- load stepping --------------------------------------------------------------------------------------
+    def _start(self, start: float, u0, state0, continuation: dict | None) -> tuple[float, np.ndarray, dict]:
+        """(load factor, u, state) a run starts from: a ``continuation``'s, else ``u0`` (default 0) with the
+        prescribed values at ``start`` and ``state0`` (default the material's initial state)."""
+        if continuation is not None:
+            return continuation["load_factor"], continuation["u"], continuation["state"]
+        kin = self.kin
+        state = state0 if state0 is not None else self.material.initial_state((kin.nel, kin.nqp))
+        return start, self.constraints.apply(np.zeros(kin.ndof) if u0 is None else u0, start), state
+
+    def _predictor(self, u, u_prev, lam_new: float, delta: float, delta_prev) -> tuple[np.ndarray, np.ndarray | None]:
+        """(u_trial, lift) of the step to ``lam_new`` (:class:`StepControl`): the last converged increment
+        extrapolated, or the prescribed increment Δu_D lifted through the linear system from u_m, or neither."""
+        ctrl, cons = self.control, self.constraints
+        u_trial = cons.apply(u, lam_new)
+        lift = None
+        if ctrl.extrapolate and u_prev is not None:
+            u_trial[cons.free] += (delta / delta_prev) * (u - u_prev)[cons.free]
+        elif ctrl.lift and np.any(u_trial != u):          # prescribed values change in this step
+            lift, u_trial = u_trial - u, u.copy()            # Δu_D (zero on free DOFs), start at u_m
+        return u_trial, lift
+
     def run(self, *, end: float = 1.0, start: float = 0.0, u0: np.ndarray | None = None,
             state0: dict | None = None, output: str | Path | None = None, vtu_every: int = 1,
             progress: bool = True, on_step: Callable[[SolveResult], None] | None = None,
@@ -518,16 +499,12 @@ class Solver:
         """
         check_range("end", end, start, None, low_open=True)
         check_range("checkpoint_every", checkpoint_every, 0, None)
-        ctrl, kin, cons = self.control, self.kin, self.constraints
-        recorder = _Recorder(self, output, vtu_every, checkpoint_every=int(checkpoint_every))
+        ctrl, kin = self.control, self.kin
+        recorder = RunRecorder(self, output, vtu_every, checkpoint_every=int(checkpoint_every))
         saved = recorder.resume() if resume else None
         if saved is not None:
-            continuation = continuation_of(saved)
-        if continuation is not None:
-            start, state, u = continuation["load_factor"], continuation["state"], continuation["u"]
-        else:
-            state = state0 if state0 is not None else self.material.initial_state((kin.nel, kin.nqp))
-            u = cons.apply(np.zeros(kin.ndof) if u0 is None else u0, start)
+            continuation = saved["continuation"]
+        start, u, state = self._start(start, u0, state0, continuation)
         ctx0 = StepContext(0, start, 0.0, start * self.duration, 0.0, 0, u, u, state, np.zeros(kin.ndof))
         response, _, f_int, _, _ = self.evaluate(u, state, ctx0)  # the start state, for the record only
         cutbacks = 0
@@ -565,13 +542,7 @@ class Solver:
             while lam < end - 1e-12 * max(1.0, abs(end)):
                 delta = min(delta, end - lam)
                 lam_new = lam + delta
-                u_trial = cons.apply(u, lam_new)
-                lift = None
-                if ctrl.extrapolate and u_prev is not None:
-                    free = cons.free
-                    u_trial[free] += (delta / delta_prev) * (u - u_prev)[free]
-                elif ctrl.lift and np.any(u_trial != u):      # prescribed values change in this step
-                    lift, u_trial = u_trial - u, u.copy()        # Δu_D (zero on free DOFs), start at u_m
+                u_trial, lift = self._predictor(u, u_prev, lam_new, delta, delta_prev)
                 ctx = StepContext(step + 1, lam_new, delta, lam_new * self.duration, delta * self.duration, 0,
                                   u_trial, u, state, f_int)
                 try:

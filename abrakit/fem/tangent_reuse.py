@@ -30,8 +30,6 @@ from ..validation import check_positive, check_range
 from .assembly import Assembler
 from .kinematics import FBarKinematics
 
-__all__ = ["ElementTangentReuse"]
-
 
 class ElementTangentReuse:
     """The values of the global tangent (in the assembler's CSR pattern) with element tangents reused where the

@@ -62,8 +62,6 @@ from ..validation import check_finite, check_number_fields, check_option, check_
 from .base import IsotropicElasticity, MaterialResponse, check_strain
 from .softening_laws import max_band_width, softening_law
 
-__all__ = ["AnisotropicSofteningDamage", "ProjectedBandWidth", "SURFACES", "projected_band_width"]
-
 #: The seed's traction failure surfaces, in its numbering 0–3.
 SURFACES = ("cuboid", "elliptical_cylinder", "ovoid", "coupled_cuboid")
 _SQRT2 = np.sqrt(2.0)

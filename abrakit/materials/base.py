@@ -26,9 +26,6 @@ from numpy.typing import ArrayLike
 from .. import tensors as T
 from ..validation import check_finite, check_positive, check_shape, number_arguments
 
-__all__ = ["DEVIATORIC", "IDENTITY", "IsotropicElasticity", "Material", "MaterialResponse", "check_strain",
-           "deviator", "finite_difference_tangent"]
-
 #: Mandel vector of the second-order identity I.
 IDENTITY = np.array([1.0, 1.0, 1.0, 0.0, 0.0, 0.0])
 #: Mandel matrix of the deviatoric projector, ``DEVIATORIC @ v = dev v`` (from abrakit.tensors).

@@ -21,11 +21,8 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from .. import tensors as T
-from ..validation import check_finite, check_positive, number_arguments
+from ..validation import check_finite, check_instance, check_positive, check_shape, number_arguments
 from .base import finite_difference_tangent
-
-__all__ = ["DriverError", "PathResult", "cycles", "drive", "plane_strain_tension", "pure_shear", "ramp",
-           "uniaxial_strain", "uniaxial_stress"]
 
 _COMPONENTS = {"11": 0, "22": 1, "33": 2, "23": 3, "13": 4, "12": 5, "32": 3, "31": 4, "21": 5}
 _SQRT2 = np.sqrt(2.0)
@@ -54,6 +51,19 @@ class PathResult:
     def __post_init__(self):
         for name in ("time", "strain", "stress"):              # a path that went astray stops, never NaN curves
             check_finite(name, getattr(self, name))
+        rows = check_shape("time", self.time, (None,)).shape[0]
+        for name in ("strain", "stress"):
+            shape = np.shape(getattr(self, name))
+            if len(shape) < 2 or shape[0] != rows or shape[-1] != 6:
+                raise ValueError(f"{name} must have shape ({rows}, ..., 6), got {shape}")
+        check_instance("internal", self.internal, dict)
+        for key, value in self.internal.items():
+            if np.shape(value)[:1] != (rows,) or (np.asarray(value).dtype.kind == "f" and np.isnan(value).any()):
+                raise ValueError(f"internal[{key!r}] must hold {rows} rows without NaN, got shape {np.shape(value)}")
+        iterations = np.asarray(self.iterations)
+        if iterations.shape != (rows - 1,) or (iterations.size and iterations.dtype.kind not in "iu") \
+                or np.any(iterations < 0):
+            raise ValueError(f"iterations must be {rows - 1} counts >= 0, got {self.iterations!r}")
 
     def strain_component(self, name: str) -> np.ndarray:
         """Tensor component ``eps_ij`` (``name="11"``, ``"12"``, ...) along the path (shears un-scaled)."""

@@ -62,9 +62,6 @@ from ..validation import (
     number_arguments,
 )
 
-__all__ = ["BAO_WIERZBICKI_CUTOFF", "JOHNSON_COOK_1985", "JohnsonCookFailure", "equivalent_plastic_strain",
-           "lode_parameter", "stress_state", "stress_triaxiality", "von_mises_stress"]
-
 #: Triaxiality at and below which no ductile damage grows (Bao & Wierzbicki, Eng. Fract. Mech. 72 (2005) 1049).
 BAO_WIERZBICKI_CUTOFF = -1.0 / 3.0
 

@@ -9,8 +9,6 @@ import numpy as np
 from ..validation import check_number_fields, check_poisson, check_positive
 from .base import IsotropicElasticity, MaterialResponse, check_strain
 
-__all__ = ["LinearElastic"]
-
 
 @dataclass(frozen=True)
 class LinearElastic(IsotropicElasticity):

@@ -43,8 +43,6 @@ from .elastic import LinearElastic
 from .model_two import ModelIIDamage
 from .plasticity import VonMisesPlasticity
 
-__all__ = ["LogStrainPlasticity", "log_derivative", "log_divided_differences"]
-
 _PAIRS = np.array(T.VOIGT_PAIRS)                               # Mandel component I <-> index pair (p_I, q_I)
 _WEIGHT = np.array([1.0, 1.0, 1.0, np.sqrt(2.0), np.sqrt(2.0), np.sqrt(2.0)])
 

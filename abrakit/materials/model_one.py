@@ -32,9 +32,6 @@ from ..validation import check_number_fields, check_option, check_poisson, check
 from .base import IsotropicElasticity, MaterialResponse, check_strain
 from .plasticity import INTEGRATIONS, plastic_step
 
-__all__ = ["DAMAGE_ENERGIES", "ModelIDamage", "TANGENTS", "damage_function", "damage_function_update",
-           "damage_indicator"]
-
 TANGENTS = ("operator_split", "consistent")
 DAMAGE_ENERGIES = ("tension", "full")
 

@@ -46,9 +46,6 @@ from ..validation import (
 from .base import IsotropicElasticity, MaterialResponse, _outer, check_strain
 from .plasticity import INTEGRATIONS, plastic_step
 
-__all__ = ["DAMAGE_ENERGIES", "ModelIIDamage", "TANGENTS", "damage_function", "driving_forces",
-           "effective_damage_function", "erve_strains"]
-
 TANGENTS = ("consistent", "seed")
 DAMAGE_ENERGIES = ("full", "tension")
 

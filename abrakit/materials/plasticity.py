@@ -34,11 +34,16 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from ..compiled import HAVE_NUMBA, njit
-from ..validation import check_number_fields, check_option, check_poisson, check_positive, number_arguments
+from ..validation import (
+    check_finite,
+    check_number_fields,
+    check_option,
+    check_poisson,
+    check_positive,
+    check_shape,
+    number_arguments,
+)
 from .base import DEVIATORIC, IsotropicElasticity, MaterialResponse, _deviator, _outer, check_strain
-
-__all__ = ["INTEGRATIONS", "PlasticStep", "VonMisesPlasticity", "plastic_step", "uniaxial_hardening_modulus",
-           "uniaxial_yield_stress"]
 
 INTEGRATIONS = ("explicit", "implicit")
 
@@ -68,6 +73,13 @@ def plastic_step(eps, eps_p: ArrayLike, alpha_p: ArrayLike, shear_modulus: Array
     frozen at the old step, as both damage models do (operator split). ``integration``: ``"explicit"``
     (seed, 6.59/6.61) or ``"implicit"`` (radial return). ``r_p=None`` means no plasticity (elastic step).
     """
+    check_shape("eps_p", check_finite("eps_p", eps_p), (..., 6))
+    check_positive("alpha_p", alpha_p, allow_zero=True)
+    check_positive("shear_modulus", shear_modulus, allow_zero=True)
+    if r_p is not None:
+        check_positive("r_p", r_p)
+    check_finite("K_H", K_H)
+    check_option("integration", integration, INTEGRATIONS)
     return _return_map(check_strain(eps), eps_p, alpha_p, shear_modulus, r_p, K_H, integration)
 
 

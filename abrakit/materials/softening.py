@@ -28,8 +28,6 @@ import numpy as np
 from ..validation import check_number_fields, check_poisson, check_positive, check_range
 from .base import IsotropicElasticity, MaterialResponse, _outer, check_strain
 
-__all__ = ["LinearSofteningDamage"]
-
 
 @dataclass(frozen=True)
 class LinearSofteningDamage(IsotropicElasticity):

@@ -27,8 +27,6 @@ import numpy as np
 
 from ..validation import check_option, check_positive
 
-__all__ = ["ExponentialSoftening", "LinearSoftening", "SOFTENING_LAWS", "max_band_width", "softening_law"]
-
 
 @dataclass(frozen=True)
 class LinearSoftening:

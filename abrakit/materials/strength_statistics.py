@@ -29,9 +29,6 @@ from scipy import special
 
 from ..validation import check_number_fields, check_option, check_positive, check_range
 
-__all__ = ["DISTRIBUTIONS", "StrengthStatistics", "normal_cdf", "truncated_cdf", "weibull_cdf", "weibull_cv",
-           "weibull_mean"]
-
 P_RANGE = (0.001, 0.999)
 DISTRIBUTIONS = ("normal", "weibull")
 MODES = (1, 2, 3)
@@ -45,7 +42,9 @@ def normal_cdf(r, cv):
 
 
 def weibull_cdf(r, shape, V0=1.0, Vp=1.0):
-    """``p(r) = 1 - exp(-(V_p/V_0) (r Gamma(1 + 1/alpha))^alpha)`` of the Weibull relative value."""
+    """``p(r) = 1 - exp(-(V_p/V_0) (r Gamma(1 + 1/alpha))^alpha)`` of the Weibull relative value (r >= 0)."""
+    r = check_range("r", r, 0.0, None)
+    shape, V0, Vp = check_positive("shape", shape), check_positive("V0", V0), check_positive("Vp", Vp)
     return -np.expm1(-(Vp / V0) * (np.asarray(r) * special.gamma(1.0 + 1.0 / shape)) ** shape)
 
 

@@ -44,9 +44,6 @@ import numpy as np
 
 from abrakit.validation import number_arguments
 
-__all__ = ["BoundaryFaces", "PlasticStrainRemoval", "SteadyRates", "VolumeBudget", "plateau_onset",
-           "removal_by_plastic_strain", "steady_rates", "volume_budget"]
-
 _GAUSS = np.array([-1.0, 1.0]) / np.sqrt(3.0)
 
 

@@ -7,19 +7,17 @@ entries: :meth:`~abrakit.scratch.record.ScratchRecorder.position`), the Newton a
 slide's first half is done, the displacement at τ = 1.5 (the groove "with the tip in contact"). Inside a phase it
 also holds the solver's :attr:`~abrakit.fem.SolveResult.continuation` (step size, cutback recovery, the previous
 increment), so the resumed phase takes the increments the uninterrupted one would have taken. It is written every
-``checkpoint_every`` increments and at the end of every phase. A checkpoint of another scene or mesh is refused by
-name, not resumed.
+``checkpoint_every`` increments and at the end of every phase, in the one checkpoint format of a run
+(:func:`abrakit.fem.recorder.save_run`). A checkpoint of another scene or mesh is refused by name, not resumed.
 """
 
 from __future__ import annotations
 
 from pathlib import Path
 
-from abrakit.fem.output import RunWriter, load_matching_checkpoint, save_checkpoint
-from abrakit.fem.solver import continuation_arrays, continuation_of
+from abrakit.fem.output import RunWriter
+from abrakit.fem.recorder import continuation_arrays, load_run, save_run
 from abrakit.validation import number_arguments
-
-__all__ = ["CHECKPOINT", "load_scratch_checkpoint", "save_scratch_checkpoint"]
 
 CHECKPOINT = RunWriter.CHECKPOINT
 
@@ -37,20 +35,16 @@ def save_scratch_checkpoint(path, scene, *, u, state, tau: float, recorder, cont
     ``iterations``: Newton iterations so far; ``cutbacks``: cutbacks of the finished phases (those of the running
     phase are in its ``continuation``, which is ``None`` at a phase end)."""
     contact_arrays, contact_meta = contact.snapshot()
-    arrays = contact_arrays | ({} if u_loaded is None else {"u_loaded": u_loaded})
-    meta = {"fingerprint": fingerprint(scene, u.size), "record": recorder.position(), "contact": contact_meta,
-            "iterations": int(iterations), "cutbacks": int(cutbacks), "control": None}
-    if continuation is not None:
-        arrays |= continuation_arrays(continuation)
-        meta["control"] = continuation["control"]
-    return save_checkpoint(path, u, state, float(tau), float(tau), arrays=arrays, meta=meta)
+    arrays = contact_arrays | {"u_loaded": u_loaded} | continuation_arrays(continuation)
+    return save_run(path, u, state, float(tau), float(tau), fingerprint=fingerprint(scene, u.size),
+                    control=None if continuation is None else continuation["control"], arrays=arrays,
+                    record=recorder.position(), contact=contact_meta, iterations=int(iterations),
+                    cutbacks=int(cutbacks))
 
 
 def load_scratch_checkpoint(path, scene, ndof: int) -> dict | None:
     """The checkpoint at ``path`` (``None`` if there is none), checked against ``scene`` and ``ndof``."""
-    saved = load_matching_checkpoint(path, fingerprint(scene, ndof), "scratch run (scene or mesh differ)")
-    if saved is None:
-        return None
-    saved["u_loaded"] = saved["arrays"].pop("u_loaded", None)
-    saved["continuation"] = continuation_of(saved)
+    saved = load_run(path, fingerprint(scene, ndof), "scratch run (scene or mesh differ)")
+    if saved is not None:
+        saved["u_loaded"] = saved["arrays"].pop("u_loaded", None)
     return saved

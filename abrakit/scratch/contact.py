@@ -46,16 +46,6 @@ import numpy as np
 
 from abrakit.validation import check_finite, check_positive, check_shape
 
-__all__ = [
-    "OPEN",
-    "SLIP",
-    "STICK",
-    "ContactResponse",
-    "contact_response",
-    "initial_state",
-    "penalty_from_stiffness",
-]
-
 OPEN, STICK, SLIP = 0, 1, 2
 """Values of ``state["status"]``."""
 
@@ -115,18 +105,18 @@ def contact_response(gap, normal, increment, state, *, c_N, c_T=None, mu=0.1, no
                      held_direction=None):
     """Penalty contact with Coulomb friction at n points, Eq. (8.1)–(8.4); see the module docstring.
 
-    gap: (n,) signed normal gap g_N, mm (> 0 open);
-    normal: (n, 3) outward unit normal of the indenter at the closest point;
-    increment: (n, 3) relative displacement increment Δ = (x − x_old) − (tip − tip_old) over the step, mm
-        (its normal part is removed by the projection);
-    state: old state dict of :func:`initial_state` (not modified);
-    c_N, c_T: normal and tangential penalty stiffness, N/mm³ (c_T defaults to c_N);
-    mu: Coulomb friction coefficient (≥ 0), the seed's μ = 0.1;
-    normal_gradient: (n, 3, 3) ∂n/∂x of the indenter, 1/mm, or None for a flat surface (geometric terms dropped);
-    held_direction: (n, 3) or None: rows of unit vectors for closed points held in slip along that fixed
-        direction, t_T = −μ p s_held (zero rows: not held). The active-set hold of
-        :class:`~abrakit.scratch.IndenterContact` for points that chatter between stick and slip or reverse their
-        slip: |t_T| = μ p stays on the cone and the law is smooth; only the direction is frozen.
+    - gap: (n,) signed normal gap g_N, mm (> 0 open);
+    - normal: (n, 3) outward unit normal of the indenter at the closest point;
+    - increment: (n, 3) relative displacement increment Δ = (x − x_old) − (tip − tip_old) over the step, mm
+      (its normal part is removed by the projection);
+    - state: old state dict of :func:`initial_state` (not modified);
+    - c_N, c_T: normal and tangential penalty stiffness, N/mm³ (c_T defaults to c_N);
+    - mu: Coulomb friction coefficient (≥ 0), the seed's μ = 0.1;
+    - normal_gradient: (n, 3, 3) ∂n/∂x of the indenter, 1/mm, or None for a flat surface (geometric terms dropped);
+    - held_direction: (n, 3) or None: rows of unit vectors for closed points held in slip along that fixed
+      direction, t_T = −μ p s_held (zero rows: not held). The active-set hold of
+      :class:`~abrakit.scratch.IndenterContact` for points that chatter between stick and slip or reverse their
+      slip: |t_T| = μ p stays on the cone and the law is smooth; only the direction is frozen.
 
     Returns a :class:`ContactResponse` (traction, tangent, pressure, new state).
     """

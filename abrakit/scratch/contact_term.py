@@ -57,8 +57,6 @@ from abrakit.scratch.contact import OPEN, SLIP, STICK, contact_response, initial
 from abrakit.scratch.indenters import SurfaceGap
 from abrakit.validation import check_positive
 
-__all__ = ["CHATTER_FLIPS", "ContactForces", "IndenterContact"]
-
 CHATTER_FLIPS = 2
 """Stick/slip switches (or reversals of the slip) of one node within one load step after which it slips along its
 last slip direction for the rest of the step."""
@@ -261,6 +259,11 @@ class IndenterContact:
         self._seen = (status, slip)
         self._pending = pending
         return pending["residual"], pending["tangent"]
+
+    @property
+    def trial_status(self) -> np.ndarray | None:
+        """Status (OPEN, STICK, SLIP) of every surface node at the last evaluated iterate, None if not evaluated."""
+        return None if self._pending is None else self._pending["state"]["status"]
 
     @property
     def held(self) -> np.ndarray:

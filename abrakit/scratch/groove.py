@@ -29,16 +29,6 @@ from numpy.typing import ArrayLike
 
 from abrakit.validation import check_finite, check_option, check_positive, check_shape, number_arguments
 
-__all__ = [
-    "GrooveMetrics",
-    "Profile",
-    "RemovedMaterial",
-    "at_cap",
-    "groove_metrics",
-    "profile_from_surface_nodes",
-    "removed_material",
-]
-
 
 class GrooveMetrics(NamedTuple):
     """Metrics of one groove cross-section (full-section values also for half profiles).

@@ -17,8 +17,6 @@ from numpy.typing import ArrayLike
 
 from abrakit.validation import broadcast_shapes, check_poisson, check_positive, number_arguments
 
-__all__ = ["HertzContact", "effective_modulus", "hertz_depth", "hertz_sphere"]
-
 QUARTZ_POISSON = 0.17
 """Poisson's ratio of the quartz grain, Table 8.1 (E = 73 GPa)."""
 

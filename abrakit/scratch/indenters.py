@@ -24,15 +24,6 @@ import numpy as np
 
 from abrakit.validation import check_finite, check_number_fields, check_positive, check_range, check_shape
 
-__all__ = [
-    "ConicalIndenter",
-    "FineZone",
-    "ScratchPath",
-    "SphericalIndenter",
-    "SurfaceGap",
-    "check_path",
-]
-
 E_Y = np.array([0.0, 1.0, 0.0])
 """Indenter axis (pointing up, away from the block)."""
 

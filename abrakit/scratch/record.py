@@ -19,8 +19,6 @@ from abrakit.io import CurveWriter, VtuSeries
 from abrakit.scratch.budget import BoundaryFaces, VolumeBudget, volume_budget
 from abrakit.validation import number_arguments
 
-__all__ = ["BUDGET_COLUMNS", "CURVE_COLUMNS", "PHASES", "ScratchRecorder", "slide_mean"]
-
 PHASES = {"indentation": 0, "scratching": 1, "unloading": 2}
 BUDGET_COLUMNS = tuple(f"V_{name}" for name in VolumeBudget._fields)
 """Volume audit per increment, mm³ (whole grain): V_groove, V_shoulders, V_prow, V_sink, V_faces,
