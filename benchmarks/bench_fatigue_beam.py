@@ -19,7 +19,7 @@ grading, the cycle jump's accuracy against a cycle-by-cycle run, and the S–N c
    ratcheting extrapolated and one settling cycle (8000 steps per cycle, seating load 10 %), a log-linear fit per
    specimen and over both graded seeds with its residuals in decades (``fatigue_beam_rockers.png``), the slopes of
    the three stages of E_f/E_f,0 against N/N_f of every run that reached its life
-   (:func:`~abrakit.experiments.bending.stage_slopes`); and each
+   (:func:`~abrakit.experiments.cyclic.stage_slopes`); and each
    graded specimen calibrated to the paper's FS_max by similarity (:func:`~abrakit.experiments.bending.
    scaled_strengths`: strengths, softening displacements and loading speed × FS_paper / FS_max), its monotonic test
    rerun to show the calibrated FS_max and the unchanged E_f, and its S–N runs at the same levels of its own P_max
@@ -47,15 +47,13 @@ from abrakit.dem.fatigue_specimen import history_deviation
 from abrakit.experiments.bending import (
     SEATING,
     BeamSpec,
-    cyclic_bending,
     flexural,
     four_point_beam,
-    measured_cycles,
     monotonic_bending,
     scaled_strengths,
-    stage_slopes,
     table_two,
 )
+from abrakit.experiments.cyclic import cyclic_bending, measured_cycles, stage_slopes
 from abrakit.experiments.sweeps import run_sweep
 from abrakit.io import CurveWriter, write_json
 

@@ -44,7 +44,8 @@ from _common import command_line, save_figure
 from abrakit.dem import fatigue_bonds, simulation
 from abrakit.dem.kernels import HAVE_NUMBA
 from abrakit.experiments import rollers
-from abrakit.experiments.bending import BeamSpec, cyclic_bending, four_point_beam, monotonic_bending
+from abrakit.experiments.bending import BeamSpec, four_point_beam, monotonic_bending
+from abrakit.experiments.cyclic import cyclic_bending
 from abrakit.io import CurveWriter, write_json
 
 NAME = "fatigue_bond_kernel"

@@ -7,7 +7,7 @@ the ratcheting extrapolated through each jump and one settling cycle after it (`
 simulated cycles, 0.01 for six more, then 0.02 ("standard"); the same schedule with every jump halved ("halved")
 and ΔD_jump = 0.003 throughout ("0.003"). Each run at 2000, 4000, 8000 and 16000 steps per cycle (the jump
 variants at 8000), with the peak-deflection ratio δ_peak/δ_static of its first cycle beside the life (the
-quasi-static measure of :func:`~abrakit.experiments.bending.cyclic_bending`) and the life's deviation from the
+quasi-static measure of :func:`~abrakit.experiments.cyclic.cyclic_bending`) and the life's deviation from the
 finest run of its level and schedule.
 
 Every case is a resumable sweep record (``fatigue_convergence_runs/``: a finished case is read back, not
@@ -29,7 +29,8 @@ from pathlib import Path
 import matplotlib.pyplot as plt
 from _common import command_line, save_figure
 
-from abrakit.experiments.bending import BeamSpec, cyclic_bending, four_point_beam, monotonic_bending
+from abrakit.experiments.bending import BeamSpec, four_point_beam, monotonic_bending
+from abrakit.experiments.cyclic import cyclic_bending
 from abrakit.experiments.sweeps import run_sweep
 from abrakit.io import CurveWriter, load_state, write_json
 

@@ -8,19 +8,21 @@ import pytest
 
 from abrakit.compiled import HAVE_NUMBA
 from abrakit.experiments.bending import (
-    QUASI_STATIC_TOLERANCE,
     BeamSpec,
     beam_theory_deflection,
-    cyclic_bending,
     flexural,
     four_point_beam,
-    measured_cycles,
     monotonic_bending,
     scaled_strengths,
-    stage_slopes,
-    static_deflection,
     table_two,
     uniaxial_modulus,
+)
+from abrakit.experiments.cyclic import (
+    QUASI_STATIC_TOLERANCE,
+    cyclic_bending,
+    measured_cycles,
+    stage_slopes,
+    static_deflection,
 )
 
 COARSE = BeamSpec(radius=5e-3)          # 5 rows of disks: quick, for the qualitative checks

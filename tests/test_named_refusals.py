@@ -92,8 +92,8 @@ def _door_cases():
     from abrakit.dem import Particles, Simulation, Walls
     from abrakit.dem.neighbours import candidate_pairs
     from abrakit.dem.periodic import voigt_strain
-    from abrakit.experiments.bending import stage_slopes
     from abrakit.experiments.compression import sphere_stress
+    from abrakit.experiments.cyclic import stage_slopes
     from abrakit.experiments.disk_packing import wall_stress
     from abrakit.fatigue.single_bond import BondTest
     from abrakit.fem import Solver

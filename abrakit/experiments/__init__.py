@@ -8,18 +8,17 @@
 :mod:`.sweeps`                         parameter studies written case by case, read back as records
 :mod:`.contacting`                     a grain bed pressed onto a plate: which grains touch it (Ch. 8.3)
 :mod:`.disk_packing`                   graded disk packings of a Fuller curve
-:mod:`.bending`                        four-point bending fatigue of a cemented beam (seed 002, Sec. 5)
+:mod:`.bending`                        the four-point beam of a cemented DEM (seed 002, Sec. 5), monotonic test
+:mod:`.cyclic`                         its cyclic test: cycle jump, fatigue life, stages (seed 002, Sec. 5.2)
 =====================================  ==================================================================
 """
 
 from abrakit.experiments.bending import (
     BeamSpec,
     beam_theory_deflection,
-    cyclic_bending,
     flexural,
     four_point_beam,
     monotonic_bending,
-    stage_slopes,
     table_two,
     uniaxial_modulus,
 )
@@ -32,6 +31,7 @@ from abrakit.experiments.closed_form_checks import (
 )
 from abrakit.experiments.compression import SCHEMES, elastic_test, force_carrying_contacts
 from abrakit.experiments.contacting import SEED_COEFFICIENT, contact_census, count_touching, pressed_bed, touching_mask
+from abrakit.experiments.cyclic import cyclic_bending, stage_slopes
 from abrakit.experiments.disk_packing import fuller_passing
 from abrakit.experiments.periodic_cell import periodic_genesis
 from abrakit.experiments.specimen import DemMaterial, DemSpecimen, SpecimenSpec, genesis
