@@ -205,6 +205,7 @@ def variational_update(
     A potential that keeps decreasing through ``max_expansions`` doublings raises ``RuntimeError``.
     """
     dt = check_positive("dt", dt)
+    eps, lam_m = check_finite("eps", eps), check_finite("lam_m", lam_m)
     check_option("on_nonconvex", on_nonconvex, ("warn", "raise", "ignore"))
     if int(grid) < 5:
         raise ValueError(f"grid must be >= 5 points, got {grid!r}")

@@ -426,7 +426,7 @@ def isotropic_part(stiffness: ArrayLike):
 
     Bulk modulus 3K = (I(x)I/3) :: C and shear modulus 2 mu = (I^dev :: C)/5, the orthogonal projections.
     """
-    C = to_mandel4(from_voigt4(check_shape("stiffness", np.asarray(stiffness, dtype=float), (6, 6))))
+    C = to_mandel4(from_voigt4(check_shape("stiffness", check_finite("stiffness", stiffness), (6, 6))))
     if not np.all(np.isfinite(C)) or not np.any(C):
         raise ValueError("stiffness must be a finite, non-zero 6x6 Voigt matrix (a vanishing one has no isotropic "
                          "E and nu)")

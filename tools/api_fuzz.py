@@ -21,6 +21,15 @@ Two stages:
    Some arguments accept NaN by design (curves written as they come, statistics that count what they drop):
    :data:`NAN_ALLOWED` lists them with the reason.
 
+3. **faces**: the callables a chapter face lists (``abrakit.<chapter>.__all__``, :func:`face_callables`) are the
+   door the toolkit promises to guard. :func:`face_report` says for each whether it has a valid call (harvested,
+   or written by hand in :data:`HAND_CALLS` for names the tests never call with plain data), and their valid calls
+   get three more invalid values: ``+inf`` (an infinite entry of an array) where a finite value is meant, and, for
+   a parameter that must be positive (:func:`must_be_positive`: :data:`POSITIVE_NAME`, :data:`POSITIVE`), zero and
+   a negative value. A NaN or infinity returned for *finite* bad input (zero, negative, a string, None) is counted
+   apart, as ``non_finite_from_finite``. Values that a call rightly takes are listed in :data:`ALLOWED` with the
+   reason (an infinite limit that means "none", a coordinate that may be negative, ...).
+
 ``python tools/api_fuzz.py harvest [--merge] [tests ...]`` then ``python tools/api_fuzz.py fuzz`` writes the counts to
 ``benchmarks/results/api_fuzz.json``; ``tests/test_api_fuzz.py`` runs the fuzz stage on the stored calls.
 """
@@ -77,6 +86,14 @@ RECORDS = {
     "abrakit.fem.pathfollow.PathPoint", "abrakit.fem.problems.ThickCylinderSolution",
     "abrakit.materials.base.MaterialResponse", "abrakit.materials.plasticity.PlasticStep",
     "abrakit.dem.neighbours.VerletList",
+    # what the chapter runs return (their fields are results) and the specimens they build
+    "abrakit.damage.model_two_fe.ModelTwoResult", "abrakit.damage.runs.SpecimenRun",
+    "abrakit.damage.specimens.DamageSpecimen", "abrakit.experiments.specimen.DemSpecimen",
+    "abrakit.scratch.run.ScratchResult", "abrakit.scratch.scene.ScratchSpecimen",
+    "abrakit.scratch.groove.GrooveMetrics",
+    "abrakit.scratch.readouts.GrooveBalance", "abrakit.scratch.run_hertz.HertzCheck",
+    # the interface every material implements: abstract, built only through a model (LinearElastic, ...)
+    "abrakit.materials.base.Material",
 }
 
 #: Callables whose valid calls may return a non-finite value, documented in their docstrings, and why.
@@ -85,8 +102,190 @@ NON_FINITE_BY_DESIGN = {
     "abrakit.experiments.closed_form_checks.mean_interval": "std and half-width of a single value are undefined "
                                                             "(NaN, as numpy's sample std)",
     "abrakit.experiments.compression.crack_initiation_stress": "NaN when no bond broke in the test",
+    "abrakit.experiments.cyclic.stage_slopes": "NaN for a stage with fewer than two distinct points (docstring)",
     "abrakit.io.loads": "strict JSON's strings NaN, Infinity, -Infinity are read back as the numbers they stand for",
 }
+
+
+#: Parameter names that denote a quantity that must be positive (a radius, a thickness, a modulus, a number of steps
+#: or of cycles, a time step, a size): zero and a negative value are invalid for them. Matched against the whole
+#: name; :data:`POSITIVE` adds parameters the pattern misses, :data:`NOT_POSITIVE` removes ones it catches wrongly.
+POSITIVE_NAME = re.compile(
+    r"^(?:\w+_)?(?:radius|radii|thickness|modulus|moduli|diameter|density|steps|cycles|count|dt|time_step|size|"
+    r"sizes|length|height|mass|volume|life|stiffness|rpm|E|youngs?)$")
+
+#: (callable, parameter) that must be positive though their names do not say so.
+POSITIVE = {
+    ("abrakit.materials.strength_statistics.weibull_cdf", "shape"),
+    ("abrakit.materials.strength_statistics.normal_cdf", "cv"),
+}
+
+#: (callable, parameter) the name pattern catches though zero or a negative value is valid, and why.
+NOT_POSITIVE = {
+    ("abrakit.dem.measure.relax", "min_steps"): "a lower bound of the steps: 0 lets relax stop at its first check",
+}
+
+#: (callable, parameter, label) whose "invalid" value is valid for that call, and why (labels of
+#: :func:`invalid_values` and :func:`face_invalid_values`: "nan", "string", "none", "+inf", "zero", ...).
+ALLOWED = {
+    **{("abrakit.experiments.disk_packing.fuller_passing", "radius", label): "the sieve size is clipped to the "
+       "grading: the fraction finer than r <= r_min is 0, finer than r >= r_max (also +inf) is 1"
+       for label in ("+inf", "inf entry", "zero", "negative")},
+    **{("abrakit.identification.isotropic_part", "stiffness", label): "the projection is defined for any finite 6x6 "
+       "matrix: one entry (C11 here) of zero or either sign is a matrix to project, not a wrong input"
+       for label in ("zero", "negative")},
+    **{("abrakit.identification.series_stiffness", k, label): "documented: inf is a rigid side, K is the other "
+       "side's stiffness (Eq. 4.11: k_a k_b / (k_a + k_b) -> k_b)"
+       for k in ("k_a", "k_b") for label in ("+inf", "inf entry")},
+    **{(f"abrakit.scratch.hertz.{name}", "E_indenter", label): "documented: E_indenter = inf is a rigid indenter "
+       "(the default), E* = E / (1 - nu^2)" for name in ("hertz_sphere",)
+       for label in ("+inf", "inf entry")},
+    ("abrakit.dem.scenes.dense_packing", "seed", "none"): "numpy's default_rng(None): a packing from fresh entropy",
+    ("abrakit.wear.wheel_surface_speed", "rpm", "zero"): "documented n >= 0: a wheel at rest has surface speed 0",
+}
+
+
+def _hand_calls() -> dict[str, list[dict]]:
+    """Valid calls of face callables that the test suite never calls with plain data (built here: some need a mesh
+    or a callable, which the catalogue does not store)."""
+    import skfem
+
+    bar = skfem.MeshLine(np.linspace(0.0, 10.0, 11))
+    calls = {
+        "abrakit.tensors.sphere_average": [{"f": lambda n: n[:, :, None] * n[:, None, :], "degree": 4}],
+        "abrakit.experiments.cyclic.stage_slopes": [
+            {"measured_at": np.arange(0.0, 101.0, 5.0), "modulus_ratio": 1.0 - 0.002 * np.arange(0.0, 101.0, 5.0),
+             "life": 100.0, "bounds": (0.1, 0.9)}],
+        "abrakit.materials.strength_statistics.normal_cdf": [{"r": np.array([0.8, 1.0, 1.2]), "cv": 0.2}],
+        "abrakit.materials.strength_statistics.weibull_cdf": [
+            {"r": np.array([0.5, 1.0, 1.5]), "shape": 6.0, "V0": 1.0, "Vp": 2.0}],
+        "abrakit.materials.strength_statistics.truncated_cdf": [
+            {"cdf": lambda r: 0.5 * np.ones_like(r), "r": np.array([0.5, 1.0])}],
+        "abrakit.wear.penetration_regime": [{"D_p": 0.15}, {"D_p": np.array([0.05, 0.25, 0.4])}],
+        "abrakit.g65.G65Standard": [{"wheel_diameter": 0.2286, "wheel_width": 0.0127, "rubber_shore_a": (58.0, 62.0),
+                                     "rubber_poisson": 0.5, "rpm": 200.0, "sand_sizes": (212e-6, 300e-6),
+                                     "sand_flow": (5e-3, 6.7e-3), "sand_density": 2650.0,
+                                     "coupon": (0.0254, 0.0762, 0.0127), "procedure_b_threshold": 1e-7,
+                                     "measured_losses": (1e-8, 1e-6)}],
+        "abrakit.evolution.PlasticState": [{"eps_p": np.zeros(3), "alpha": np.zeros(3)}],
+        "abrakit.damage.localisation.cross_section": [
+            {"mesh": bar, "area": 100.0, "depth": 0.05, "width": 1.0, "notch": 0.02}],
+    }
+    # ---- built objects: meshes, bases, materials, a small packing ------------------------------------------------
+    from abrakit.dem.clumps import dyad
+    from abrakit.dem.scenes import dense_packing
+    from abrakit.evolution import Plasticity1D, rate_independent
+    from abrakit.fatigue import BondParameters
+    from abrakit.fem.kinematics import Kinematics, vector_basis
+    from abrakit.materials import LinearElastic, VonMisesPlasticity
+    from abrakit.materials.driver import ramp
+    from abrakit.scratch.contact import initial_state
+
+    square = skfem.MeshQuad().refined(2)
+    basis = vector_basis(square)
+    elastic = LinearElastic(1000.0, 0.3)
+    plastic = VonMisesPlasticity(1000.0, 0.3, 10.0, 100.0)
+    packing = dense_packing(27, seed=0, agitation=0.0, walls=True)
+    tracked = dense_packing(8, seed=0, agitation=0.0, walls=True, track_energy=True)
+    tracked.run(2)
+    eps = np.array([1e-3, 0.0, 0.0, 0.0, 0.0, 0.0])
+    from abrakit import evolution
+    from abrakit.damage.localisation import bar_mesh
+    from abrakit.fem import Dirichlet
+    from abrakit.materials import ModelIDamage
+
+    tagged = vector_basis(skfem.MeshQuad().refined(2).with_boundaries(
+        {"left": lambda x: x[0] == 0.0, "bottom": lambda x: x[1] == 0.0, "right": lambda x: x[0] == 1.0}))
+    pulled = [Dirichlet.on(tagged, "left", "x"), Dirichlet.on(tagged, "bottom", "y"),
+              Dirichlet.on(tagged, "right", "x", 1e-3, name="end")]
+    bar = vector_basis(bar_mesh(5, 2.0))
+    bar_pulled = [Dirichlet.on(bar, "left", "x"), Dirichlet.on(bar, "bottom", "y"),
+                  Dirichlet.on(bar, "right", "x", 1e-3, name="end")]
+    damage = ModelIDamage(1000.0, 0.0, 0.05, beta=1.0)
+    return {
+        **calls,
+        "abrakit.fem.solver.Solver": [{"basis": tagged, "material": elastic, "dirichlet": pulled}],
+        "abrakit.fem.pathfollow.PathFollowingSolver": [{"basis": tagged, "material": elastic, "dirichlet": pulled,
+                                                        "method": "dissipation", "path": None, "opening": None}],
+        "abrakit.fem.problems.thick_cylinder_problem": [{"material": elastic, "n_radial": 4, "n_angular": 4}],
+        "abrakit.fem.problems.plate_with_hole_problem": [{"material": elastic, "n_angular": 4, "n_radial": 4}],
+        "abrakit.damage.model_one_fe.ModelISolver": [{"basis": bar, "material": damage, "dirichlet": bar_pulled}],
+        "abrakit.damage.model_one_path.ModelIPathFollowingSolver": [
+            {"basis": bar, "material": damage, "dirichlet": bar_pulled}],
+        "abrakit.damage.specimens.specimen": [{"name": "sharp_notch", "level": "coarse"}],
+        "abrakit.evolution.variational_update": [
+            {"free_energy": lambda e, l: l**2, "dissipation": evolution.elasto_viscoplastic(0.05, 0.05),
+             "eps": 0.0, "lam_m": 0.0, "dt": 1.0}],
+        "abrakit.dem.scenes.rolling_sphere": [{"friction": 0.9, "velocity": 0.2}],
+        "abrakit.fatigue.single_bond.cyclic_test": [
+            {"p": BondParameters(), "mode": "tension", "to_failure": False, "max_cycles": 3}],
+        "abrakit.fem.kinematics.vector_basis": [{"mesh": square, "element": None, "intorder": None}],
+        "abrakit.fem.kinematics.Kinematics": [dict(vars(Kinematics.from_basis(basis)))],
+        "abrakit.fem.assembly.Assembler": [{"kinematics": Kinematics.from_basis(basis)}],
+        "abrakit.fem.assembly.skfem_tangent": [
+            {"basis": basis, "tangent": np.broadcast_to(elastic.stiffness if hasattr(elastic, "stiffness") else
+                                                        np.eye(6), (*basis.dx.shape, 6, 6)).copy()}],
+        "abrakit.fem.boundary.boundary_dofs": [
+            {"basis": vector_basis(square.with_boundaries({"left": lambda x: x[0] == 0.0})), "boundary": "left",
+             "components": "x"}],
+        "abrakit.fem.meshes.check_quality": [{"mesh": square, "max_aspect_ratio": 20.0, "min_jacobian_ratio": 0.2}],
+        "abrakit.fem.linsolve.DirectSolver": [{"backend": "auto", "order": None, "check_tol": 1e-8, "refinements": 2,
+                                               "precision": "double", "forcing": 0.0, "krylov_iterations": 8}],
+        "abrakit.damage.laplacian.face_neighbours": [{"mesh": square}],
+        "abrakit.damage.laplacian.element_laplacian": [{"mesh": square, "max_condition": 1e4, "selection": "auto",
+                                                        "max_candidates": 16, "monotone": True}],
+        "abrakit.damage.model_two_fe.rate_limit_work": [
+            {"u": np.array([0.0, 1e-3, 2e-3]), "u_old": np.array([0.0, 5e-4, 1e-3]),
+             "reactions_old": np.array([1.0, 2.0, 3.0]), "prescribed": np.array([0, 2]), "force_scale": 1.0}],
+        "abrakit.materials.driver.uniaxial_stress": [{"material": plastic, "eps11": ramp(2e-2, 4)}],
+        "abrakit.materials.driver.uniaxial_strain": [{"material": plastic, "eps11": ramp(2e-2, 4)}],
+        "abrakit.materials.driver.pure_shear": [{"material": plastic, "gamma12": ramp(2e-2, 4)}],
+        "abrakit.materials.driver.plane_strain_tension": [{"material": plastic, "eps11": ramp(2e-2, 4)}],
+        "abrakit.materials.base.finite_difference_tangent": [
+            {"material": elastic, "state": elastic.initial_state(()), "eps": eps, "h": 1e-8, "dt": 1.0}],
+        "abrakit.evolution.simulate": [
+            {"model": Plasticity1D(E=1000.0, K=100.0), "strain": np.linspace(0.0, 2e-2, 9),
+             "time": np.linspace(0.0, 1.0, 9), "dissipation": rate_independent(10.0), "scheme": "implicit",
+             "state0": None}],
+        "abrakit.dem.measure.porosity": [{"sim": packing, "volume": 1e-6}],
+        "abrakit.dem.measure.coordination_number": [{"sim": packing, "mechanical": False}],
+        "abrakit.dem.measure.contact_counts": [{"sim": packing}],
+        "abrakit.dem.measure.energy_balance": [{"sim": tracked}],
+        "abrakit.dem.measure.unbalanced_force_ratio": [{"sim": packing}],
+        "abrakit.dem.measure.relax": [{"sim": packing, "tolerance": 0.5, "stress_tolerance": 0.5, "min_steps": 0,
+                                       "max_steps": 10, "check_every": 10}],
+        "abrakit.experiments.compression.force_carrying_contacts": [{"sim": packing}],
+        "abrakit.dem.bonds.install_contact_bonds": [
+            {"sim": packing, "normal_strength": 1e6, "shear_strength": 1e6, "gap": None, "pairs": None}],
+        "abrakit.dem.periodic.Periodic": [{"lengths": np.array([1.0, 1.0, 1.0]), "lower": np.zeros(3),
+                                           "tilt": np.zeros((3, 3))}],
+        "abrakit.dem.clumps.clump_particles": [{"centres": np.array([[0.0, 0.0, 0.0], [0.01, 0.0, 0.0]]),
+                                                "template": dyad(0.002), "density": 2650.0, "rng": None}],
+        "abrakit.dem.scenes.dense_packing": [{"n": 8, "seed": 0, "radius": 0.001, "spread": 0.1, "overlap": 0.005,
+                                              "density": 2650.0, "kn": 1e6, "friction": 0.5, "wall_friction": 0.0,
+                                              "agitation": 0.01, "law": None, "walls": True,
+                                              "track_energy": False}],
+        "abrakit.experiments.specimen.DemMaterial": [
+            {"youngs_modulus": 7e10, "stiffness_ratio": 2.5, "friction": 0.5, "density": 2630.0,
+             "bond_normal_strength": None, "bond_shear_strength": None, "bond_gap": 1e-3}],
+        "abrakit.scratch.contact.contact_response": [
+            {"gap": np.array([-1e-4, 1e-4]), "normal": np.array([[0.0, -1.0, 0.0], [0.0, -1.0, 0.0]]),
+             "increment": np.ones((2, 3)) * 1e-6, "state": initial_state(2), "c_N": 2.1e8, "c_T": None, "mu": 0.1,
+             "normal_gradient": None, "held_direction": None}],
+        "abrakit.fatigue.single_bond.BondTest": [{"p": BondParameters(), "mode": "shear"}],
+        "abrakit.fatigue.single_bond.monotonic_test": [
+            {"p": BondParameters(), "mode": "tension", "increment": 2e-6, "until_damage": 0.9, "max_steps": 2000,
+             "test": None}],
+    }
+
+
+#: Callables with a valid call written by hand (:func:`_hand_calls`), filled by :func:`load_catalogue`.
+HAND_NAMES: set[str] = set()
+
+#: Labels of invalid values that are finite: a NaN or infinity returned for them is ``non_finite_from_finite``.
+FINITE_LABELS = ("string", "none", "zero", "negative")
+#: Labels of the values the face fuzz adds to NaN, a string and None.
+FACE_LABELS = ("+inf", "inf entry", "zero", "negative")
 
 
 # ---- what is public --------------------------------------------------------------------------------------------
@@ -125,6 +324,29 @@ def unprefixed_callables() -> dict[str, object]:
                 found[f"{module.__name__}.{name}"] = obj
     return found
 
+
+
+def face_callables() -> dict[str, tuple[str, str]]:
+    """``{"module.name": (chapter, name on the face)}`` of every function and class a chapter face lists
+    (``abrakit.<chapter>.__all__`` for the chapters of ``abrakit.MODULES``), keyed by its defining module."""
+    import abrakit
+
+    listed = {}
+    for chapter in abrakit.MODULES:
+        face = getattr(abrakit, chapter)
+        for name in face.__all__:
+            obj = getattr(face, name)
+            if _callable(obj) and (getattr(obj, "__module__", "") or "").startswith("abrakit"):
+                listed.setdefault(f"{obj.__module__}.{obj.__name__}", (chapter, name))
+    return listed
+
+
+def must_be_positive(name: str, parameter: str) -> bool:
+    """Whether ``parameter`` of callable ``name`` must be positive (:data:`POSITIVE_NAME`, :data:`POSITIVE`,
+    :data:`NOT_POSITIVE`)."""
+    if (name, parameter) in NOT_POSITIVE:
+        return False
+    return (name, parameter) in POSITIVE or bool(POSITIVE_NAME.match(parameter))
 
 def _code_of(obj):
     """The code object that runs when ``obj`` is called (a decorated function's own, not its wrapper's)."""
@@ -244,6 +466,9 @@ def load_catalogue(path: Path = CATALOGUE) -> dict:
                 calls.setdefault(name, []).append(pickle.loads(data))
             except (ImportError, AttributeError):
                 continue
+    for name, kwargs_list in _hand_calls().items():
+        HAND_NAMES.add(name)
+        calls.setdefault(name, []).extend(kwargs_list)
     public = public_callables()
     return {name: (public[name], kwargs_list) for name, kwargs_list in calls.items() if name in public}
 
@@ -284,6 +509,33 @@ def invalid_values(value, none_valid: bool):
     out.append(("string", "abc"))
     if not none_valid:
         out.append(("none", None))
+    return out
+
+
+def face_invalid_values(value, positive: bool):
+    """The values :func:`invalid_values` adds for a face callable: ``+inf`` for a number (an infinite first entry
+    for a float array), and, where the parameter must be ``positive``, zero and a negative value (the first entry
+    of an array)."""
+    out = []
+    if isinstance(value, bool) or not isinstance(value, int | float | np.number | np.ndarray):
+        return out
+    if isinstance(value, np.ndarray):
+        if value.dtype.kind != "f" or not value.size:
+            return out
+        bad = value.copy()
+        bad.flat[0] = np.inf
+        out.append(("inf entry", bad))
+        if positive:
+            for label, entry in (("zero", 0.0), ("negative", -abs(float(value.flat[0])) or -1.0)):
+                bad = value.copy()
+                bad.flat[0] = entry
+                out.append((label, bad))
+        return out
+    out.append(("+inf", float("inf")))
+    if positive:
+        kind = int if isinstance(value, int | np.integer) else float
+        out.append(("zero", kind(0)))
+        out.append(("negative", kind(-abs(value)) if value else kind(-1)))
     return out
 
 
@@ -328,9 +580,13 @@ def replay(catalogue: dict, *, slow: float = SLOW_CALL, skip=()):
     for name, (call, kwargs_list) in sorted(catalogue.items()):
         if name in skip or name in RECORDS:
             continue
-        parameters = set(inspect.signature(call).parameters)
-        for kwargs in kwargs_list:
-            if set(kwargs) != parameters:
+        declared = inspect.signature(call).parameters.values()
+        fixed = [p for p in declared if p.kind not in (p.VAR_POSITIONAL, p.VAR_KEYWORD)]
+        parameters = {p.name for p in fixed}
+        required = {p.name for p in fixed if p.default is p.empty}
+        open_ended = any(p.kind == p.VAR_KEYWORD for p in declared)       # **options: passed on by name
+        for kwargs in kwargs_list:         # a harvested call names every parameter, a hand-written one the needed
+            if not required <= set(kwargs) <= (set(kwargs) if open_ended else parameters):
                 yield name, call, kwargs, "stale", "signature changed"
                 continue
             start = time.perf_counter()
@@ -350,9 +606,11 @@ def fuzz(catalogue: dict, *, slow: float = SLOW_CALL, limit: float = 2.0, skip=(
     Valid calls slower than ``slow`` seconds are not mutated (listed as ``slow``), a mutated call is stopped after
     ``limit`` seconds (``timeout``), and the callables named in ``skip`` are left out."""
     counts = Counter()
+    face_counts = Counter()
     cases = []
     valid_non_finite, stale, skipped_slow = [], [], []
     functions = set()
+    faces = face_callables()
     for name, call, kwargs, status, result in replay(catalogue, slow=slow, skip=skip):
         if status == "stale":
             stale.append(f"{name}: {result}")
@@ -368,20 +626,55 @@ def fuzz(catalogue: dict, *, slow: float = SLOW_CALL, limit: float = 2.0, skip=(
         for parameter, value in kwargs.items():
             if (name, parameter) in NAN_ALLOWED:
                 continue
-            declared = signature.parameters[parameter]
-            none_valid = declared.default is None or "None" in str(declared.annotation)
-            for label, bad in invalid_values(value, none_valid):
+            declared = signature.parameters.get(parameter)      # None: passed on through **options
+            none_valid = declared is None or declared.default is None or "None" in str(declared.annotation)
+            bad_values = invalid_values(value, none_valid)
+            if name in faces:
+                bad_values += face_invalid_values(value, must_be_positive(name, parameter))
+            bad_values = [(label, bad) for label, bad in bad_values if (name, parameter, label) not in ALLOWED]
+            for label, bad in bad_values:
                 mutated = copy.deepcopy(kwargs)
                 mutated[parameter] = bad
                 kind, text = outcome(call, mutated, parameter, limit)
                 counts[kind] += 1
+                if kind == "non_finite" and label in FINITE_LABELS:
+                    counts["non_finite_from_finite"] += 1
+                if name in faces:
+                    face_counts[kind] += 1
+                    if kind == "non_finite" and label in FINITE_LABELS:
+                        face_counts["non_finite_from_finite"] += 1
                 cases.append({"callable": name, "parameter": parameter, "value": label, "outcome": kind,
                               "message": text})
     counts["invalid calls"] = sum(counts[k] for k in OUTCOMES)
-    return {"functions": len(functions), "counts": {k: counts[k] for k in ("valid calls", "invalid calls",
-                                                                            *OUTCOMES)},
+    face_counts["invalid calls"] = sum(face_counts[k] for k in OUTCOMES)
+    keys = ("valid calls", "invalid calls", *OUTCOMES, "non_finite_from_finite")
+    return {"functions": len(functions), "counts": {k: counts[k] for k in keys},
+            "face_counts": {k: face_counts[k] for k in keys[1:]},
             "valid_non_finite": sorted(set(valid_non_finite)), "stale": sorted(set(stale)),
-            "slow": sorted(set(skipped_slow)), "cases": [c for c in cases if c["outcome"] != "named"]}
+            "slow": sorted(set(skipped_slow)), "fuzzed": sorted(functions),
+            "skipped": sorted(set(skip) & set(catalogue)),
+            "cases": [c for c in cases if c["outcome"] != "named"]}
+
+
+def face_report(catalogue: dict, result: dict | None = None) -> dict[str, str]:
+    """``{"module.name": how}`` for every callable a chapter face lists: ``"harvested"`` or ``"hand"``
+    (:data:`HAND_CALLS`) where the catalogue holds a valid call of it, ``"record"`` for the records of
+    :data:`RECORDS` (their fields are outputs), ``"none"`` where it has no valid call. With the ``result`` of
+    :func:`fuzz`, a call that did not run ``"slow"`` or ``"stale"`` is marked so (``"harvested, slow"``)."""
+    fuzzed = set(result["fuzzed"]) if result else None
+    slow = set(result["slow"]) if result else set()
+    out = {}
+    for name in sorted(face_callables()):
+        if name in RECORDS:
+            out[name] = "record"
+        elif name not in catalogue:
+            out[name] = "none"
+        else:
+            how = "hand" if name in HAND_NAMES else "harvested"
+            if fuzzed is not None and name not in fuzzed:
+                how += ", slow" if name in slow else (", skipped" if name in result["skipped"] else ", stale")
+            out[name] = how
+    return out
 
 
 def valid_calls(catalogue: dict, *, slow: float = SLOW_CALL, skip=()) -> list[tuple[str, object, dict]]:
@@ -403,6 +696,11 @@ def report(result: dict) -> str:
     lines = [f"{result['functions']} callables, {counts['valid calls']} valid calls, "
              f"{counts['invalid calls']} invalid calls"]
     lines += [f"  {k:11s} {counts[k]}" for k in OUTCOMES]
+    lines.append(f"  non_finite_from_finite {counts['non_finite_from_finite']}")
+    lines.append(f"  face callables: {result.get('face_counts')}")
+    if "faces" in result:
+        how = Counter(v for v in result["faces"].values())
+        lines.append(f"  face coverage: {dict(how)} of {len(result['faces'])}")
     lines.append(f"  valid calls with NaN/inf results: {len(result['valid_non_finite'])} "
                  f"{result['valid_non_finite'][:8]}")
     by = defaultdict(Counter)
@@ -428,7 +726,9 @@ if __name__ == "__main__":
         found = harvest(args.tests, merge=args.merge)
         print(f"harvested {sum(map(len, found.values()))} calls of {len(found)} callables into {CATALOGUE}")
     else:
-        result = fuzz(load_catalogue())
+        catalogue = load_catalogue()
+        result = fuzz(catalogue)
+        result["faces"] = face_report(catalogue, result)
         result["surface"] = {"public (__all__)": len(public_callables()),
                              "without a leading underscore": len(unprefixed_callables())}
         args.out.write_text(json.dumps({k: v for k, v in result.items()}, indent=1, allow_nan=False))

@@ -21,7 +21,7 @@ from abrakit.dem.simulation import Simulation
 from abrakit.dem.state import Particles
 from abrakit.fatigue.bond_law import BondParameters
 from abrakit.io import RunRecord
-from abrakit.validation import check_positive, check_range, number_arguments
+from abrakit.validation import check_finite, check_positive, check_range, number_arguments
 
 
 @number_arguments
@@ -108,6 +108,8 @@ def history_deviation(run: dict, reference: dict, key: str = "max_damage", start
     """Largest relative deviation of ``run[key]`` from ``reference[key]`` interpolated at the run's cycles (both
     :func:`cyclic_bar` results, or any dicts with ``"cycles"`` and ``key``); the reference starts at cycle 0 with
     ``start`` (default: its first value). Cycles beyond the reference's last are ignored."""
+    if start is not None:
+        check_finite("start", start)
     cycles = np.concatenate([[0.0], np.asarray(reference["cycles"], float)])
     values = np.asarray(reference[key], float)
     values = np.concatenate([[values[0] if start is None else start], values])

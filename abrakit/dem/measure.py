@@ -17,7 +17,7 @@ from __future__ import annotations
 import numpy as np
 
 from abrakit.dem.contact_laws import _rowdot
-from abrakit.validation import check_positive
+from abrakit.validation import check_instance, check_positive, check_range
 
 
 def wall_stress(sim, wall, area: float | None = None) -> float:
@@ -162,6 +162,11 @@ def relax(sim, *, tolerance: float = 1e-2, stress_tolerance: float = 1e-2, min_s
           max_steps: int = 20_000, check_every: int = 200) -> dict:
     """Cycle until static equilibrium: unbalanced force ratio below ``tolerance`` and every servo wall within
     ``stress_tolerance`` (relative) of its target. Returns ``{"steps", "ratio", "converged"}``."""
+    check_positive("tolerance", tolerance)
+    check_positive("stress_tolerance", stress_tolerance)
+    for name, value, low in (("min_steps", min_steps, 0), ("max_steps", max_steps, 1), ("check_every", check_every, 1)):
+        check_instance(name, value, (int, np.integer))
+        check_range(name, value, low, None)
     steps, ratio = 0, np.inf
     while steps < max_steps:
         sim.run(check_every, progress=False)

@@ -143,7 +143,8 @@ def rolling_sphere(radius=0.01, density=2650.0, friction=0.3, velocity=1.0, *, g
     """A sphere thrown (no spin) along a frictional floor: slides, then rolls from t* = 2v₀/(7μg) at 5v₀/7.
 
     Returns ``t_star``/``v_star`` (when the contact point's slip velocity v − ωr first vanishes) with their
-    analytic values, and the sampled ``time``, ``velocity``, ``spin_speed`` (ωr).
+    analytic values, and the sampled ``time``, ``velocity``, ``spin_speed`` (ωr). ``steps`` (default: to 2 t*)
+    must take the run past 1.5 t*, where the final velocity is read.
     """
     radius, friction, velocity = (check_positive(n, v) for n, v in (("radius", radius), ("friction", friction),
                                                                      ("velocity", velocity)))
@@ -156,7 +157,8 @@ def rolling_sphere(radius=0.01, density=2650.0, friction=0.3, velocity=1.0, *, g
     law = Linear(damping_normal=0.5, damping_shear=0.5)
     sim = Simulation(p, walls=walls, law=law, gravity=(0, 0, -gravity), skin=radius)
     t_star = 2 * velocity / (7 * friction * gravity)
-    steps = int(np.ceil(2.0 * t_star / sim.dt)) if steps is None else int(steps)
+    shortest = int(np.ceil(1.5 * t_star / sim.dt)) + 1              # past 1.5 t*, where v_final is read
+    steps = int(np.ceil(2.0 * t_star / sim.dt)) if steps is None else int(check_range("steps", steps, shortest))
     t, v, spin = np.empty(steps), np.empty(steps), np.empty(steps)
     for s in range(steps):
         sim.step()
@@ -342,6 +344,10 @@ def dense_packing(n=1000, *, seed=0, radius=0.001, spread=0.1, overlap=0.005, de
     """
     rng = np.random.default_rng(seed)
     n = int(check_positive("n", n))
+    check_positive("radius", radius)
+    check_range("spread", spread, 0.0, 1.0, high_open=True)
+    check_range("overlap", overlap, -1.0, 1.0, low_open=True, high_open=True)
+    check_positive("agitation", agitation, allow_zero=True)
     m = max(int(round((n / 4) ** (1 / 3))), 1)                 # m × m cells per layer, layers filled upwards
     layers = int(np.ceil(n / (4 * m * m)))
     a = 2 * np.sqrt(2) * radius * (1 - overlap)                # FCC cube edge from the neighbour distance

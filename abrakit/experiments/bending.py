@@ -320,6 +320,10 @@ def four_point_beam(spec: BeamSpec | None = None, params: BondParameters | None 
     check_option("control", control, ("displacement", "force"))
     check_option("fixture", fixture, ("pads", "rockers"))
     pad = max(0.01, 4.0 * spec.radius) if pad is None else check_positive("pad", pad)
+    check_positive("modulus", modulus)
+    check_positive("stiffness_ratio", stiffness_ratio)
+    check_range("local_damping", local_damping, 0.0, 1.0, high_open=True)
+    check_range("safety", safety, 0.0, 1.0, low_open=True)
     sim = _bonded_sample(spec, params, modulus, stiffness_ratio, local_damping, safety)
     sim.kernel = BEAM_KERNEL
     xy, r = sim.particles.x[:, :2], sim.particles.radius
@@ -381,6 +385,8 @@ def beam_theory_deflection(load: ArrayLike, modulus: float, poisson: float, spec
     span a = (S − s)/2 (the inverse of :func:`flexural`'s modulus; 23 P S³/(108 E W H³) for third-point loading)
     plus, with ``shear``, Timoshenko's shear part P a/(2 κ G W H) with κ = 5/6 and G = E/(2(1 + ν)) (2D plane
     stress). For S/H = 3 the shear part adds about a quarter."""
+    check_positive("modulus", modulus)
+    check_range("poisson", poisson, -1.0, 0.5, low_open=True, high_open=True)
     S, W, H, a = spec.span, spec.width, spec.height, _shear_span(spec)
     bending = load * a * (3.0 * S**2 - 4.0 * a**2) / (4.0 * modulus * W * H**3)
     if not shear:

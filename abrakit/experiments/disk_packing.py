@@ -28,8 +28,7 @@ from abrakit.validation import check_positive, check_range, number_arguments
 
 def _check_grading(smallest, largest, exponent):
     check_positive("smallest", smallest)
-    if not largest > smallest:
-        raise ValueError(f"largest must exceed smallest = {smallest:g}, got {largest:g}")
+    check_range("largest", largest, smallest, None, low_open=True)
     return check_range("exponent", exponent, 0.0, 2.0, low_open=True, high_open=True)
 
 

@@ -18,7 +18,7 @@ import numpy as np
 import scipy.sparse as sp
 import skfem
 
-from ..validation import check_shape
+from ..validation import check_finite, check_shape
 from .kinematics import (
     ACTIVE_COMPONENTS,
     MANDEL_GRADIENT_TABLE_2D,
@@ -196,7 +196,8 @@ def _force_form(v, w):
 
 def skfem_tangent(basis: skfem.CellBasis, tangent: np.ndarray) -> sp.csr_matrix:
     """Eq. (4.40) with scikit-fem's generic ``BilinearForm`` (reference; slow for 3D vector problems)."""
-    return _tangent_form.assemble(basis, C=np.moveaxis(np.asarray(tangent), (0, 1), (2, 3)))
+    tangent = check_finite("tangent", tangent)
+    return _tangent_form.assemble(basis, C=np.moveaxis(tangent, (0, 1), (2, 3)))
 
 
 def skfem_internal_force(basis: skfem.CellBasis, stress: np.ndarray) -> np.ndarray:

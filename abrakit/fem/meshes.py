@@ -77,6 +77,7 @@ def plate_with_hole(width: float = 50.0, height: float = 50.0, radius: float = 1
     """
     width, height = check_positive("width", width), check_positive("height", height)
     radius = check_range("radius", radius, 0.0, min(width, height), low_open=True, high_open=True)
+    check_positive("grading", grading)
     corner = np.arctan2(height, width)
     if angles is None:
         n1 = int(np.clip(round(n_angular * corner / (np.pi / 2)), 1, n_angular - 1))
@@ -161,6 +162,10 @@ def double_notched_specimen(width: float = 50.0, height: float = 100.0, notch_de
     """
     width, height = check_positive("width", width), check_positive("height", height)
     check_range("notch_depth", notch_depth, 0.0, width / 2, low_open=True, high_open=True)
+    check_range("notch_width", notch_width, 0.0, height, low_open=True, high_open=True)
+    check_range("offset", offset, -height / 2, height / 2, low_open=True, high_open=True)
+    check_range("h_fine", h_fine, 0.0, height, low_open=True, high_open=True)
+    check_range("grading", grading, 1.0, None)
     mid = height / 2
     y_left, y_right = mid + offset, mid - offset
     band = (y_right - notch_width / 2 - 2 * h_fine, y_left + notch_width / 2 + 2 * h_fine)
@@ -202,6 +207,7 @@ def sharp_notch_specimen(width: float = 50.0, height: float = 40.0, notch: float
     """
     width, height = check_positive("width", width), check_positive("height", height)
     notch = check_range("notch", notch, 0.0, width, low_open=True, high_open=True)
+    check_positive("grading", grading)
     xs = graded_towards(0.0, width, n_x, notch, grading)
     ys = (height / 2) * graded(n_y, grading)
     mesh = skfem.MeshQuad.init_tensor(xs, ys)
@@ -323,6 +329,8 @@ def _scalar(mesh):
 
 def check_quality(mesh, max_aspect_ratio: float = 20.0, min_jacobian_ratio: float = 0.2) -> MeshQuality:
     """Raise ``ValueError`` for inverted/degenerate elements; warn for badly shaped ones. Returns the report."""
+    check_range("max_aspect_ratio", max_aspect_ratio, 1.0, None)
+    check_range("min_jacobian_ratio", min_jacobian_ratio, 0.0, 1.0)
     q = element_quality(mesh)
     bad = np.flatnonzero(q.jacobian_ratio <= 0.0)
     if bad.size:

@@ -218,6 +218,7 @@ class SofteningBar:
         check_range("n", self.n, 1, None)
         check_positive("length", self.length)
         check_positive("E", self.E)
+        check_positive("eps_0", self.eps_0)
         check_range("eps_f", self.eps_f, self.eps_0, None, low_open=True)
         check_range("strength", self.strength, 1.0, None, low_open=True)
 

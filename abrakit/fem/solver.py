@@ -80,6 +80,7 @@ class StepControl:
         check_range("initial", self.initial, self.minimum, self.maximum)
         check_range("cutback", self.cutback, 0.0, 1.0, low_open=True, high_open=True)
         check_range("growth", self.growth, 1.0, None)
+        check_range("easy_steps", self.easy_steps, 1, None)
 
 
 @dataclass(frozen=True)

@@ -135,6 +135,7 @@ def finite_difference_tangent(material, state, eps, h: float = 1e-8, dt: float =
     """
     eps = check_strain(eps)
     check_positive("h", h)
+    check_positive("dt", dt)
     columns = []
     for k in range(6):
         step = np.zeros(6)

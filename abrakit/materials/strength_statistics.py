@@ -27,7 +27,8 @@ from dataclasses import dataclass
 import numpy as np
 from scipy import special
 
-from ..validation import check_number_fields, check_option, check_positive, check_range
+from ..validation import (check_callable, check_finite, check_number_fields, check_option, check_positive,
+                          check_range)
 
 P_RANGE = (0.001, 0.999)
 DISTRIBUTIONS = ("normal", "weibull")
@@ -37,7 +38,8 @@ MAX_NORMAL_CV = float(1.0 / special.ndtri(P_RANGE[1]))
 
 
 def normal_cdf(r, cv):
-    """``p(r) = 1/2 [1 + erf((r - 1)/(C_v sqrt 2))]`` of the normal relative value."""
+    """``p(r) = 1/2 [1 + erf((r - 1)/(C_v sqrt 2))]`` of the normal relative value (``cv`` > 0)."""
+    r, cv = check_finite("r", r), check_positive("cv", cv)
     return 0.5 * (1.0 + special.erf((np.asarray(r) - 1.0) / (cv * np.sqrt(2.0))))
 
 
@@ -62,6 +64,7 @@ def weibull_cv(shape):
 
 def truncated_cdf(cdf, r):
     """The CDF of the drawn values: ``(cdf(r) - 0.001) / 0.998`` clipped to [0, 1]."""
+    cdf, r = check_callable("cdf", cdf), check_finite("r", r)
     lo, hi = P_RANGE
     return np.clip((cdf(r) - lo) / (hi - lo), 0.0, 1.0)
 

@@ -42,7 +42,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from abrakit.validation import number_arguments
+from abrakit.validation import check_finite, number_arguments
 
 _GAUSS = np.array([-1.0, 1.0]) / np.sqrt(3.0)
 
@@ -189,6 +189,9 @@ def steady_rates(curves: dict, from_slide: float | None = None, to_slide: float 
     s = np.asarray(curves["slide"])[sliding]
     if s.size < 3:
         raise ValueError("steady_rates needs at least three sliding increments")
+    for name, value in (("from_slide", from_slide), ("to_slide", to_slide)):
+        if value is not None:
+            check_finite(name, value)
     start = 0.5 * s.max() if from_slide is None else from_slide
     window = (s >= start) & (s <= (np.inf if to_slide is None else to_slide))
     if window.sum() < 3:

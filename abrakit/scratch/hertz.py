@@ -42,9 +42,10 @@ def effective_modulus(E: ArrayLike, nu: ArrayLike, E_indenter: ArrayLike = np.in
     E = check_positive("E", E)
     nu = check_poisson("nu", nu)
     compliance = (1.0 - nu**2) / E
-    if not np.isinf(E_indenter):
+    nu_indenter = check_poisson("nu_indenter", nu_indenter)
+    if not np.all(np.asarray(E_indenter, float) == np.inf):      # +inf: a rigid indenter
         E_indenter = check_positive("E_indenter", E_indenter)
-        compliance += (1.0 - check_poisson("nu_indenter", nu_indenter) ** 2) / E_indenter
+        compliance += (1.0 - nu_indenter**2) / E_indenter
     return 1.0 / compliance
 
 
