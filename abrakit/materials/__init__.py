@@ -9,7 +9,7 @@ from __future__ import annotations
 
 from .anisotropic_damage import SURFACES, AnisotropicSofteningDamage
 from .base import Material, MaterialResponse, finite_difference_tangent
-from .driver import cycles, plane_strain_tension, pure_shear, ramp, uniaxial_strain, uniaxial_stress
+from .driver import cycles, drive, plane_strain_tension, pure_shear, ramp, uniaxial_strain, uniaxial_stress
 from .elastic import LinearElastic
 from .finite_strain import LogStrainPlasticity
 from .model_one import ModelIDamage
@@ -32,7 +32,7 @@ __all__ = [
     # closed forms of the plasticity model
     "uniaxial_yield_stress", "uniaxial_hardening_modulus",
     # the material-point driver
-    "ramp", "cycles", "uniaxial_stress", "uniaxial_strain", "pure_shear", "plane_strain_tension",
+    "ramp", "cycles", "drive", "uniaxial_stress", "uniaxial_strain", "pure_shear", "plane_strain_tension",
     # strength statistics of seed 001
     "StrengthStatistics", "normal_cdf", "truncated_cdf", "weibull_cdf", "weibull_mean",
 ]
