@@ -27,8 +27,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy import special
 
-from ..validation import (check_callable, check_finite, check_number_fields, check_option, check_positive,
-                          check_range)
+from ..validation import check_callable, check_finite, check_number_fields, check_option, check_positive, check_range
 
 P_RANGE = (0.001, 0.999)
 DISTRIBUTIONS = ("normal", "weibull")
