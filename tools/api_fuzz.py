@@ -182,6 +182,8 @@ def _hand_calls() -> dict[str, list[dict]]:
     from abrakit.scratch.contact import initial_state
 
     square = skfem.MeshQuad().refined(2)
+    calls["abrakit.damage.metrics.band_width"] = [
+        {"mesh": square, "values": np.linspace(0.0, 1.0, square.t.shape[1]), "threshold": 0.5}]
     basis = vector_basis(square)
     elastic = LinearElastic(1000.0, 0.3)
     plastic = VonMisesPlasticity(1000.0, 0.3, 10.0, 100.0)
