@@ -21,6 +21,15 @@ def save_figure(fig, path, dpi: int = 120) -> Path:
     return Path(path)
 
 
+def study_dirs(outdir, name: str) -> tuple[Path, Path]:
+    """Create ``outdir`` and its ``<name>_checkpoints`` folder (where a study's runs keep their resumable state);
+    return both."""
+    outdir = Path(outdir)
+    checkpoints = outdir / f"{name}_checkpoints"
+    checkpoints.mkdir(parents=True, exist_ok=True)
+    return outdir, checkpoints
+
+
 def command_line(main, doc: str, quick_help: str = "a smaller, faster study", report=None):
     """Run ``main(outdir, quick)`` from the command line (``--quick``, ``--outdir``) and print its report.
 

@@ -41,7 +41,7 @@ from pathlib import Path
 
 import matplotlib.pyplot as plt
 import numpy as np
-from _common import command_line, save_figure
+from _common import command_line, save_figure, study_dirs
 
 from abrakit.dem.fatigue_specimen import history_deviation
 from abrakit.experiments.bending import (
@@ -242,10 +242,7 @@ def plot_rockers(rockers: dict, path: Path) -> None:
 
 
 def main(outdir: Path, quick: bool = False) -> dict:
-    outdir = Path(outdir)
-    outdir.mkdir(parents=True, exist_ok=True)
-    checkpoints = outdir / f"{NAME}_checkpoints"
-    checkpoints.mkdir(exist_ok=True)
+    outdir, checkpoints = study_dirs(outdir, NAME)
     seeds = (0,) if quick else (0, 1)
     samples = [("lattice", 5e-3)] if quick else [("lattice", 5e-3), ("lattice", 3.5e-3), ("lattice", 2.5e-3),
                                                   ("fuller", 6e-3), ("fuller", 4e-3)]

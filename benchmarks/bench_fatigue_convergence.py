@@ -27,7 +27,7 @@ import warnings
 from pathlib import Path
 
 import matplotlib.pyplot as plt
-from _common import command_line, save_figure
+from _common import command_line, save_figure, study_dirs
 
 from abrakit.experiments.bending import BeamSpec, four_point_beam, monotonic_bending
 from abrakit.experiments.cyclic import cyclic_bending
@@ -141,10 +141,7 @@ def plot(runs: list[dict], path: Path) -> None:
 
 
 def main(outdir: Path, quick: bool = False) -> dict:
-    outdir = Path(outdir)
-    outdir.mkdir(parents=True, exist_ok=True)
-    checkpoints = outdir / f"{NAME}_checkpoints"
-    checkpoints.mkdir(exist_ok=True)
+    outdir, checkpoints = study_dirs(outdir, NAME)
     monotonic = run_sweep(monotonic_case, [{**BEAM, "speed": 1e-3, "drop": 0.9, "name": "monotonic"}],
                           outdir / f"{NAME}_runs", backend="serial")[0]["result"]
     records = run_sweep(fatigue_case, cases(monotonic["P_max"], checkpoints, quick), outdir / f"{NAME}_runs",

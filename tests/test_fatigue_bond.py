@@ -485,3 +485,34 @@ def test_the_jump_ends_at_the_failing_cycle_and_tension_equals_shear(jump):
     s = cyclic_test(P, "shear", stress_min=0.0, to_failure=False, jump=jump)
     assert t.cycles[-1] == s.cycles[-1] == 311
     assert np.array_equal(t.cycles, s.cycles) and np.allclose(t.cycle_damage, s.cycle_damage, rtol=1e-12)
+
+
+@pytest.mark.parametrize("compiled", [False, True])
+def test_a_nearly_broken_bond_pressed_shut_by_its_dilatancy_returns_in_one_step(compiled):
+    """The state a beam run at 0.86 P_max and 8000 steps per cycle stopped on (D = 1 − 1.82·10⁻⁶, a near-pure shear
+    trial, a slight compression): the return slides the bond by 2.5·10⁻⁴ ū_s, dilates it by 1.6·10⁻⁵ ū_n against
+    the full compressive stiffness, and friction then carries the shear on a surface 62 × the start state's. F is
+    held to round-off of the end state's size (|F| < 10⁻¹² of its square) but not of the start's, which the
+    tolerance used to refer to: Newton converges, without a split, in the NumPy and the compiled return alike, and
+    the bond stands (D below D_fail) in compression."""
+    from abrakit.experiments.bending import table_two
+    from abrakit.fatigue._return_kernel import plastic_return_bonds
+    from abrakit.fatigue.bond_law import FAILURE_DAMAGE, _yield_scale
+
+    if compiled and not HAVE_NUMBA:
+        pytest.skip("the compiled return needs numba")
+    p = table_two()
+    tn, ts, d0 = np.array([-3.24932733e-12]), np.array([2.0825e-4]), np.array([0.99999818])
+    kn, ks = np.array([1.71421913e11]), np.array([7.1425797e10])
+    start = _yield_scale(kn * tn, d0, p)
+    if compiled:
+        *out, converged = plastic_return_bonds(tn, ts, d0, kn, ks, p.un, p.us, p.cohesion, p.tensile_strength,
+                                               p.tan_phi, p.tan_psi, p.alpha, 1e-12, 60, tn, ts, 0)
+        assert converged.all()
+    else:
+        out = plastic_return(tn, ts, d0, p, stiffness=(kn, ks), max_halvings=0)
+    du_n, du_s, d, sn, ss = (np.asarray(v)[0] for v in out)
+    end = _yield_scale(sn, d, p)
+    assert d0[0] < d < FAILURE_DAMAGE and sn < 0 and end > 50 * start[0]
+    assert du_n == pytest.approx(1.64e-5 * p.un, rel=0.01) and du_s == pytest.approx(2.48e-4 * p.us, rel=0.01)
+    assert abs(criterion(sn, ss, d, p)) < 1e-12 * end**2

@@ -131,7 +131,9 @@ def _newton_one(tn, ts, d0, kn, ks, un, us, c, tan_phi, tan_psi, alpha2, q0_unit
             t *= 0.5
         y[:] = trial
         r[:] = rt
-    converged = max(abs(r[0]), abs(r[1]), abs(r[2])) < tol
+    # on the surface to the precision of the larger of the start's and the end's size (``bond_law._converged``)
+    larger = max(scale, surface_size(sn, 1.0 - d, c, tan_phi))
+    converged = max(abs(r[0]), abs(r[1]), abs(r[2]) * (scale / larger) ** 2) < tol
     return converged, y[0] * un, y[1] * us, d, sn, ss
 
 
