@@ -292,13 +292,17 @@ DECISIONS: tuple[Decision, ...] = (
     Decision("failure damage of a bond", "D grows from D₀ to 1, where the yield and fatigue surfaces meet "
              "(Sec. 3.1, Fig. 4); a bond at D → 1 is not otherwise defined",
              "D_fail = 1 − 10⁻⁶ (bond_law.FAILURE_DAMAGE): a bond that reaches it is broken (the DEM removes it "
-             "and logs a crack); the return computes 1 − D as (1 − D₀) e^{−κ} to full precision and cannot fail "
-             "for a bond short of D_fail; one whose iteration ends past it breaks in that step",
+             "and logs a crack); the return computes 1 − D as (1 − D₀) e^{−κ} to full precision, holds F to the "
+             "larger of the start's and the end state's surface size, and cannot fail for a bond short of D_fail; "
+             "one whose iteration ends past it breaks in that step",
              "at D_fail the surfaces are 10⁻⁶ of their size (0.07 Pa for Table 2): the seed's final stage. Near "
-             "D = 1, 1 − D taken from the rounded D kept too few digits for the return's tolerance, and a beam "
-             "run stopped on a bond at D = 1 − 2·10⁻⁶",
-             (BOND + "test_a_bond_next_to_full_damage_in_near_pure_shear_returns_or_breaks",), "four_point_bending",
-             "choice"),
+             "D = 1, 1 − D taken from the rounded D kept too few digits for the return's tolerance, and beam "
+             "runs stopped on bonds at D = 1 − 2·10⁻⁶: one in near-pure shear, and one pressed shut by its own "
+             "dilatancy whose surface grew 62 × by friction, so that F's round-off exceeded the tolerance "
+             "relative to the start state",
+             (BOND + "test_a_bond_next_to_full_damage_in_near_pure_shear_returns_or_breaks",
+              BOND + "test_a_nearly_broken_bond_pressed_shut_by_its_dilatancy_returns_in_one_step"),
+             "four_point_bending", "choice"),
     Decision("ratcheting in the cycle jump", "a bond that yields in the sampled cycle gets no fatigue (E = 0 in "
              "Eq. 17); what it does during the jump is not addressed", "the paper's reading by default "
              "(plasticity='frozen': it stands still); plasticity='extrapolated' repeats the sampled cycle's plastic "
