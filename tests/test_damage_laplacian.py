@@ -437,6 +437,31 @@ def test_unsupported_meshes_and_options_raise():
         lap(np.full(mesh.t.shape[1], np.nan))
 
 
+@pytest.mark.parametrize(("name", "value", "error", "allowed"), [
+    ("max_candidates", float("nan"), ValueError, "an integer >= 1"),
+    ("max_candidates", float("inf"), ValueError, "an integer >= 1"),
+    ("max_candidates", 2.5, ValueError, "an integer >= 1"),
+    ("max_candidates", "abc", TypeError, "an integer >= 1"),
+    ("max_candidates", None, TypeError, "an integer >= 1"),
+    ("max_condition", float("nan"), ValueError, "a finite number >= 1"),
+    ("max_condition", float("inf"), ValueError, "a finite number >= 1"),
+    ("max_condition", 0.5, ValueError, "a finite number >= 1"),
+    ("max_condition", "abc", TypeError, "a finite number >= 1"),
+    ("max_condition", None, TypeError, "a finite number >= 1"),
+])
+def test_bad_numbers_are_refused_at_the_entry_by_name_and_range(name, value, error, allowed):
+    with pytest.raises(error, match=f"{name} must be {allowed}"):
+        element_laplacian(unit_cube_mesh("quad", 4), **{name: value})
+
+
+def test_non_finite_node_coordinates_are_refused():
+    mesh = unit_cube_mesh("quad", 4)
+    p = mesh.p.copy()
+    p[0, 7] = np.nan
+    with pytest.raises(ValueError, match="mesh: node coordinates must be finite"):
+        element_laplacian(type(mesh)(p, mesh.t))
+
+
 def test_greedy_selection_also_works_on_quadrilaterals():
     mesh = unit_cube_mesh("quad", 8, perturb=0.25)
     lap = element_laplacian(mesh, selection="greedy")

@@ -80,6 +80,10 @@ Deviations from the seed, all harmless for :math:`\Lambda_f`: (6.66) prints :mat
 the first derivatives depends on it). (6.75) sums :math:`-\mathbf{B}^{\nabla^2}\cdot\mathbf{1}` over all rows; a row
 of the element's own ghost has :math:`\Delta f \equiv 0`, so its derivative is 0, not -1 -- ``diagonal`` is the
 exact derivative of the operator actually applied.
+
+The vertex rings, the choice of the extra members and the column equilibration are in
+``abrakit.damage._laplacian_stencil``, the fallback (least-squares fit and nonnegative rows) in
+``abrakit.damage._laplacian_fallback``.
 """
 
 from __future__ import annotations
@@ -90,9 +94,16 @@ import numpy as np
 import scipy.sparse as sp
 import skfem
 from numpy.typing import ArrayLike
-from scipy.optimize import nnls
 
-from abrakit.validation import check_finite, check_option, check_positive, check_range, check_shape, number_arguments
+from abrakit.damage._laplacian_fallback import _fallback_members, _least_squares_fit, _nonnegative_rows, _with_rows
+from abrakit.damage._laplacian_stencil import (
+    _equilibrated,
+    _padded_rows,
+    _select_diagonal,
+    _select_greedy,
+    _vertex_adjacency,
+)
+from abrakit.validation import all_finite, check_finite, check_option, check_range, check_shape, number_arguments
 
 #: Element families with a Taylor stencil: mesh class -> number of face neighbours.
 SUPPORTED_MESHES = {
@@ -105,18 +116,6 @@ SUPPORTED_MESHES = {
 
 _AXES = "xyz"
 
-#: Exponents q of the fallback weights min(1, rho_n / rho)**(2 q), tried from steep (local) to flat (robust).
-FALLBACK_WEIGHT_POWERS = (3, 1, 0)
-
-#: Nonnegative fallback rows: a member at dimensionless distance rho costs (rho**q c)**2 (close ones preferred).
-NONNEGATIVE_PENALTY_POWER = 3
-
-#: Weight of the moment conditions over the penalty (weighting method for equality constraints, Lawson & Hanson,
-#: ch. 22): the conditions are met to about (1 / weight)**2, i.e. to roundoff.
-NONNEGATIVE_CONSTRAINT_WEIGHT = 1e8
-
-#: A nonnegative fallback row is exact for quadratics when every dimensionless moment condition holds to this.
-NONNEGATIVE_TOLERANCE = 1e-8
 
 
 @number_arguments
@@ -161,9 +160,22 @@ def _mesh_kind(mesh) -> int:
             if mesh.p.shape[0] != mesh.dim():
                 raise ValueError(f"mesh: {type(mesh).__name__} embedded in {mesh.p.shape[0]}D is not supported; "
                                  f"the Taylor stencil needs a {mesh.dim()}D mesh")
+            if not all_finite(np.asarray(mesh.p, dtype=float)):
+                raise ValueError("mesh: node coordinates must be finite (no NaN or infinity)")
             return n_faces
     names = ", ".join(cls.__name__ for cls in SUPPORTED_MESHES)
     raise TypeError(f"mesh: element Laplacian supports {names} (and their subclasses), got {type(mesh).__name__}")
+
+
+def _at_least(name: str, value, low, *, integer: bool = False):
+    """``value`` as a float (an int where ``integer``) if it is a finite real number >= ``low``; else ``TypeError``
+    (not a real number) or ``ValueError`` naming ``name`` and the allowed range."""
+    message = f"{name} must be {'an integer' if integer else 'a finite number'} >= {low:g}, got {value!r}"
+    if isinstance(value, bool) or not isinstance(value, int | float | np.integer | np.floating):
+        raise TypeError(message)
+    if not (np.isfinite(value) and value >= low and (not integer or value == int(value))):
+        raise ValueError(message)
+    return int(value) if integer else float(value)
 
 
 def element_centres(mesh) -> np.ndarray:
@@ -263,93 +275,6 @@ class ElementLaplacian:
         return check_shape("f", check_finite("f", f), (len(self.centres),))
 
 
-def _padded_rows(matrix: sp.csr_matrix) -> np.ndarray:
-    """Column indices of each CSR row as a padded (nrows, max_per_row) array, -1 where a row is shorter."""
-    matrix = matrix.tocsr()
-    counts = np.diff(matrix.indptr)
-    out = np.full((matrix.shape[0], max(int(counts.max(initial=0)), 1)), -1, dtype=np.int64)
-    rows = np.repeat(np.arange(matrix.shape[0]), counts)
-    out[rows, np.arange(matrix.nnz) - matrix.indptr[rows]] = matrix.indices
-    return out
-
-
-def _vertex_adjacency(mesh) -> sp.csr_matrix:
-    """Element-to-element adjacency through shared vertices, without the diagonal."""
-    nel = mesh.t.shape[1]
-    incidence = sp.csr_matrix(
-        (np.ones(mesh.t.size), (mesh.t.ravel(), np.tile(np.arange(nel), mesh.t.shape[0]))),
-        shape=(mesh.p.shape[1], nel),
-    )
-    adjacency = (incidence.T @ incidence).tocsr()
-    adjacency.setdiag(0)
-    adjacency.eliminate_zeros()
-    adjacency.data[:] = 1.0
-    return adjacency
-
-
-def _equilibrated(rows, weights=None):
-    """Scale the columns of stacked Taylor matrices (..., k, n) to unit norm; return (scaled, scale, condition)."""
-    if weights is not None:
-        rows = rows * np.sqrt(weights)[..., None]
-    norms = np.linalg.norm(rows, axis=-2)
-    scale = np.where(norms > 0.0, 1.0 / np.where(norms > 0.0, norms, 1.0), 0.0)
-    scaled = rows * scale[..., None, :]
-    singular = np.linalg.svd(scaled, compute_uv=False)
-    with np.errstate(divide="ignore", invalid="ignore"):
-        condition = np.where(singular[..., -1] > 0.0, singular[..., 0] / singular[..., -1], np.inf)
-    condition = np.where(np.all(norms > 0.0, axis=-1) & (rows.shape[-2] >= rows.shape[-1]), condition, np.inf)
-    return scaled, scale, condition
-
-
-def _select_diagonal(dx_cand, valid, n_extra):
-    """Seed rule (Fig. 6.5): per coordinate plane (k, p) the closest candidate in diagonal direction.
-
-    Score |dx_k dx_p| / |dx|**3: largest for a 45-degree direction in that plane and for close elements.
-    """
-    chosen = np.full((dx_cand.shape[0], n_extra), -1, dtype=np.int64)
-    available = valid.copy()
-    dim = dx_cand.shape[-1]
-    planes = [(k, p) for k in range(dim) for p in range(k + 1, dim)]
-    rho = np.linalg.norm(dx_cand, axis=-1)
-    rows = np.arange(dx_cand.shape[0])
-    for slot, (k, p) in enumerate(planes):
-        with np.errstate(divide="ignore", invalid="ignore"):
-            score = np.abs(dx_cand[..., k] * dx_cand[..., p]) / rho**3
-        score = np.where(available, score, -np.inf)
-        best = np.argmax(score, axis=1)
-        ok = np.isfinite(score[rows, best]) & (score[rows, best] > 0.0)
-        chosen[:, slot] = np.where(ok, best, -1)
-        available[rows[ok], best[ok]] = False
-    return chosen
-
-
-def _select_greedy(base_rows, cand_rows, cand_dx, valid, n_extra):
-    """Add, one at a time, the candidate whose Taylor row has the largest part outside the rows chosen so far.
-
-    This is row-pivoted QR on the candidate rows: the relative residual |(I - P) r| / |r| after projecting a row r
-    on the span of the current rows measures how much new information it brings; dividing by the (dimensionless)
-    distance prefers close members, whose truncation error is smaller.
-    """
-    nel = cand_rows.shape[0]
-    chosen = np.full((nel, n_extra), -1, dtype=np.int64)
-    available = valid.copy()
-    cand_norm = np.maximum(np.linalg.norm(cand_rows, axis=-1), 1e-300)
-    distance = np.maximum(np.linalg.norm(cand_dx, axis=-1), 1e-300)
-    rows_now = base_rows
-    elements = np.arange(nel)
-    for slot in range(n_extra):
-        basis = np.linalg.qr(np.swapaxes(rows_now, 1, 2))[0]            # (nel, n, k): span of the current rows
-        residual = cand_rows - np.einsum("ecn,enk,emk->ecm", cand_rows, basis, basis)
-        score = np.where(available, np.linalg.norm(residual, axis=-1) / cand_norm / distance, -np.inf)
-        best = np.argmax(score, axis=1)
-        ok = score[elements, best] > 1e-8
-        chosen[:, slot] = np.where(ok, best, -1)
-        available[elements[ok], best[ok]] = False
-        picked = np.where(ok[:, None], cand_rows[elements, best], 0.0)
-        rows_now = np.concatenate([rows_now, picked[:, None, :]], axis=1)
-    return chosen
-
-
 def element_laplacian(
     mesh,
     *,
@@ -365,22 +290,22 @@ def element_laplacian(
     mesh : skfem.MeshLine1, MeshTri1, MeshQuad1, MeshTet1 or MeshHex1 (or a subclass, e.g. MeshQuad2; only the
         vertices are used). Lengths in any unit; the Laplacian comes out per length squared.
     max_condition : condition number of the dimensionless, column-equilibrated Taylor system above which an
-        element falls back to the weighted least-squares fit over its 2-ring (and above which that fit is refused).
+        element falls back to the weighted least-squares fit over its 2-ring (and above which that fit is refused);
+        finite and >= 1, since no condition number is below 1.
     selection : how the extra (non-face) stencil members are chosen: ``"diagonal"`` (the seed's rule, one per
         coordinate plane; quadrilaterals and hexahedra), ``"greedy"`` (most new information, any element type) or
         ``"auto"`` (diagonal for quadrilaterals/hexahedra, greedy for simplices).
-    max_candidates : the nearest this-many vertex neighbours are considered as extra members.
+    max_candidates : the nearest this-many vertex neighbours are considered as extra members (an integer >= 1).
     monotone : on fallback elements use the nonnegative Laplacian rows (maximum principle; ``inexact`` where no
         nonnegative row is exact for quadratics); ``False`` keeps the signed least-squares rows, exact for
         quadratics on every interior element but possibly with negative off-diagonal weights.
     """
     n_faces = _mesh_kind(mesh)
-    max_condition = check_positive("max_condition", max_condition)
+    max_condition = _at_least("max_condition", max_condition, 1.0)     # no condition number is below 1
     check_option("selection", selection, ("auto", "diagonal", "greedy"))
     if not isinstance(monotone, bool):
         raise TypeError(f"monotone must be True or False, got {monotone!r}")
-    if isinstance(max_candidates, bool) or int(max_candidates) != max_candidates or max_candidates < 1:
-        raise ValueError(f"max_candidates must be a positive integer, got {max_candidates!r}")
+    max_candidates = _at_least("max_candidates", max_candidates, 1, integer=True)
     dim = mesh.dim()
     n_extra = len(taylor_terms(dim)) - n_faces
     is_simplex = isinstance(mesh, skfem.MeshTri1 | skfem.MeshTet1)
@@ -397,7 +322,7 @@ def element_laplacian(
         raise ValueError(f"mesh: elements {np.nonzero(length <= 0.0)[0][:5]} have coincident neighbour centres")
     adjacency = _vertex_adjacency(mesh)
     extra_source, dx_extra = _extra_members(centres, face_source, dx_face / length[:, None, None], length, adjacency,
-                                            n_extra, selection, int(max_candidates))
+                                            n_extra, selection, max_candidates)
 
     # Square system (6.67) in dimensionless, column-equilibrated form: (D_hat S)(S^-1 d_hat) = Delta f.
     source = np.concatenate([face_source, extra_source], axis=1)
@@ -413,11 +338,13 @@ def element_laplacian(
     inexact = np.zeros(len(centres), dtype=bool)
     if fallback.any():
         targets = np.nonzero(fallback)[0]
-        sources, dx_fit, near = _fallback_members(mesh, centres, length, adjacency, targets)
-        weights, condition[fallback] = _least_squares_fit(targets, sources, dx_fit, max_condition, condition)
+        _, ghost_owner, ghost_points = ghost_centres(mesh)
+        sources, dx_fit, near = _fallback_members(ghost_owner, ghost_points, centres, length, adjacency, targets)
+        rows = taylor_matrix(dx_fit)                                    # Eq. (6.70) of the fallback members
+        weights, condition[fallback] = _least_squares_fit(targets, sources, dx_fit, rows, max_condition, condition)
         blocks.append((targets, sources, weights))
         if monotone:
-            stencils, inexact[fallback] = _nonnegative_rows(sources, dx_fit, near)
+            stencils, inexact[fallback] = _nonnegative_rows(sources, dx_fit, rows, near)
 
     derivative_matrix = _assemble(blocks, length, dim, len(centres))
     matrix = _unmixed_sum(derivative_matrix, dim)
@@ -507,124 +434,6 @@ def _unmixed_sum(derivative_matrix, dim) -> sp.csr_matrix:
     pick = sp.csr_matrix((np.ones(rows.size), (rows, cols)), shape=(nel, nel * n))
     return (pick @ derivative_matrix).tocsr()
 
-
-def _fallback_members(mesh, centres, length, adjacency, targets):
-    """Members of the fallback of the elements ``targets``: their 2-ring, boundary elements also the ghost centres of
-    every element in their 2-ring.
-
-    Returns ``(sources, dx_hat, near)``, each (m, k): the element whose value a member carries (-1: no member), the
-    dimensionless increments (m, k, dim) and whether the member belongs to the 1-ring (a ghost: if its owner does).
-    """
-    nel = len(centres)
-    ring = adjacency + sp.identity(nel, format="csr")
-    one_ring = ring[targets]
-    two_ring = (one_ring @ ring).tocsr()
-    _, owner, ghost_points = ghost_centres(mesh)
-    ghost_of = sp.csr_matrix((np.ones(owner.size), (owner, np.arange(owner.size))), shape=(nel, owner.size))
-    # An interior element's fit stays free of the boundary condition, so it remains exact for every quadratic.
-    on_boundary = np.asarray(ghost_of[targets].sum(axis=1)).ravel() > 0
-    ghosts = (sp.diags(on_boundary.astype(float)) @ two_ring @ ghost_of).tocsr()
-    ghosts.eliminate_zeros()
-
-    members = _padded_rows(two_ring)
-    members = np.where(members == targets[:, None], -1, members)       # f_i - f_i carries no information
-    ghost_ids = _padded_rows(ghosts)
-    points = np.concatenate([centres[np.maximum(members, 0)], ghost_points[np.maximum(ghost_ids, 0)]], axis=1)
-    sources = np.concatenate([members, np.where(ghost_ids >= 0, owner[np.maximum(ghost_ids, 0)], -1)], axis=1)
-    dx_hat = (points - centres[targets, None, :]) / length[targets, None, None]
-    present = (sources >= 0) & (np.sum(dx_hat**2, axis=-1) > 0.0)
-    sources = np.where(present, sources, -1)
-    near = np.any(sources[:, :, None] == _padded_rows(one_ring)[:, None, :], axis=2) & present
-    return sources, dx_hat, near
-
-
-def _least_squares_fit(targets, sources, dx_hat, max_condition, square_condition):
-    """Weighted least-squares Taylor fit over the members of ``_fallback_members`` for the elements ``targets``.
-
-    Weights min(1, rho_n / rho_j)**(2 q), rho_n the distance of the n-th nearest member, with the first q of
-    ``FALLBACK_WEIGHT_POWERS`` that gives a well-conditioned system.
-    Returns ``(weights, condition)`` with dimensionless weights (m, n, k) acting on Delta f.
-    """
-    present = sources >= 0
-    rho2 = np.sum(dx_hat**2, axis=-1)
-    rows = taylor_matrix(dx_hat)
-    # Weights min(1, rho_n / rho)**(2 q): the n nearest members (n = number of unknowns) count fully, farther ones
-    # fade. A steep q keeps the fit local and nearly as accurate as the square stencil; where that is ill-conditioned
-    # (slivers) the next, flatter q is used.
-    rho = np.sqrt(np.where(present, rho2, np.inf))
-    rho_n = np.sort(rho, axis=1)[:, min(rows.shape[-1], rho.shape[1]) - 1]
-    closeness = np.where(present, np.minimum(1.0, (rho_n[:, None] / np.where(present, rho, 1.0)) ** 2), 0.0)
-    best = np.full(len(targets), np.inf)
-    weights = np.zeros((len(targets), rows.shape[-1], rows.shape[-2]))
-    for power in FALLBACK_WEIGHT_POWERS:
-        todo = ~(best <= max_condition)
-        if not todo.any():
-            break
-        weight = closeness[todo] ** power
-        scaled, scale, condition = _equilibrated(rows[todo], weight)
-        # d_hat = S (W^1/2 D_hat S)^+ W^1/2 Delta f
-        weights[todo] = scale[:, :, None] * np.linalg.pinv(scaled) * np.sqrt(weight)[:, None, :]
-        best[todo] = condition
-    bad = ~(best <= max_condition)
-    if bad.any():
-        raise ValueError(
-            f"mesh: the Taylor stencil of elements {targets[bad][:8].tolist()} is singular or ill-conditioned "
-            f"(condition {square_condition[targets[bad]][:3]} for the square system, {best[bad][:3]} for the "
-            f"least-squares fit over the 2-ring; max_condition={max_condition:g}); the mesh is too thin or "
-            f"degenerate there to determine second derivatives"
-        )
-    return weights, best
-
-
-def _nonnegative_rows(sources, dx_hat, near):
-    """Laplacian rows c >= 0 of the fallback elements: sum_j c_j (f_j - f_i), exact for quadratics where possible.
-
-    Exactness for every quadratic means the moment conditions sum_j c_j D_j = (0, ..., 0, 1, ..., 1) on the Taylor
-    rows D_j (6.70): sum_j c_j dx_j = 0, sum_j c_j dx_jk dx_jp = 0 (k < p), sum_j c_j dx_jk**2 = 2. Among the
-    nonnegative solutions the one minimising sum_j (rho_j**q c_j)**2 (close members preferred, ties shared
-    symmetrically) is found as a nonnegative least-squares problem, the conditions weighted by
-    ``NONNEGATIVE_CONSTRAINT_WEIGHT`` over the penalty rows. The 1-ring is tried first, then the 2-ring; if neither
-    admits a solution the 2-ring's best nonnegative fit is kept and the element marked inexact. The conditions are
-    deliberately not normalised: in the dimensionless increments the fit then stays close to the moment tensor 2 I
-    as a whole (error O(|Hessian|)) instead of meeting a condition with tiny increments (across a sliver) at the
-    price of huge moments along it.
-    Returns ``(weights (m, k), inexact (m,))`` with dimensionless weights acting on Delta f = f_j - f_i.
-    """
-    dim = dx_hat.shape[-1]
-    moments = np.swapaxes(taylor_matrix(dx_hat), 1, 2)                 # (m, n, k)
-    n = moments.shape[1]
-    target = (np.arange(n) >= n - dim).astype(float)                  # only the unmixed second moments are 1
-    penalty = np.linalg.norm(dx_hat, axis=-1) ** NONNEGATIVE_PENALTY_POWER
-    big = NONNEGATIVE_CONSTRAINT_WEIGHT
-    weights = np.zeros(sources.shape)
-    inexact = np.zeros(len(sources), dtype=bool)
-    for e in range(len(sources)):
-        for members in (near[e], sources[e] >= 0):
-            conditions = moments[e][:, members]
-            system = np.vstack([big * conditions, np.diag(penalty[e, members])])
-            rhs = np.concatenate([big * target, np.zeros(members.sum())])
-            c = nnls(system, rhs, maxiter=20 * system.shape[1])[0]
-            exact = np.abs(conditions @ c - target).max() <= NONNEGATIVE_TOLERANCE
-            if exact:
-                break
-        weights[e, members] = c
-        inexact[e] = not exact
-    return weights, inexact
-
-
-def _with_rows(matrix, owner, sources, weights) -> sp.csr_matrix:
-    """``matrix`` with the rows ``owner`` replaced by sum_j weights_j (f_{sources_j} - f_owner), sources >= 0.
-
-    Members carrying the owner's own value (its ghosts) add nothing; the other rows keep their entries bit for bit.
-    """
-    matrix = matrix.tocoo()
-    keep = ~np.isin(matrix.row, owner)
-    own = np.broadcast_to(owner[:, None], sources.shape)
-    used = (sources >= 0) & (sources != own) & (weights != 0.0)
-    rows = np.concatenate([matrix.row[keep], own[used], own[used]])
-    cols = np.concatenate([matrix.col[keep], sources[used], own[used]])
-    vals = np.concatenate([matrix.data[keep], weights[used], -weights[used]])
-    return sp.csr_matrix((vals, (rows, cols)), shape=matrix.shape)
 
 
 @number_arguments

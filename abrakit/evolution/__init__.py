@@ -17,35 +17,38 @@ Decisions (stated in the book's chapter on evolution laws): Eq. (2.112)'s switch
 "|p| > r1"; Eq. (4.53) is read as λ^{m+1} = λ^m + Δt/r2 · [|p(ε^{m+1}, λ^m)| - r1]_+. For a driving force that
 can change sign (plasticity) the rate carries sgn(p), which the seed omits because its damage driving force is never
 negative.
+
+The time discretisations and the stepping the two models share are in ``abrakit.evolution._schemes``, the minimiser
+behind :func:`variational_update` in ``abrakit.evolution._search``.
 """
 
 from __future__ import annotations
 
 import time as _time
-import warnings
 from dataclasses import dataclass
 from typing import NamedTuple
 
 import numpy as np
 from numpy.typing import ArrayLike
 from scipy.integrate import solve_ivp
-from scipy.optimize import minimize_scalar
 from scipy.special import wrightomega
 
-from .validation import check_finite, check_number_fields, check_option, check_positive, check_range, number_arguments
+from abrakit.evolution._schemes import SCHEMES, _Model1D
+from abrakit.evolution._search import NonConvexWarning as NonConvexWarning  # raised here, filtered by users
+from abrakit.evolution._search import _argmin_with_kink
+from abrakit.validation import (
+    check_finite,
+    check_number_fields,
+    check_option,
+    check_positive,
+    check_range,
+    number_arguments,
+)
 
 __all__ = [
     "Plasticity1D", "PlasticState", "Damage1D", "Dissipation", "SCHEMES", "simulate", "rate_independent",
     "rate_dependent", "rate_dependent_update", "variational_update", "elasto_viscoplastic", "convergence_study"
 ]
-
-#: Time discretisations listed after Eq. (2.110): (time level of the strain, time level of λ) in p(ε, λ).
-SCHEMES = {
-    "explicit": ("m", "m"),  # p(ε^m, λ^m): forward Euler
-    "implicit": ("m+1", "m+1"),  # p(ε^{m+1}, λ^{m+1}): backward Euler
-    "split": ("m+1", "m"),  # p(ε^{m+1}, λ^m): operator split used by the seed's FEM, Eqs. (4.47), (4.53)
-    "split_reverse": ("m", "m+1"),  # p(ε^m, λ^{m+1}): the other operator split
-}
 
 
 def _plus(x):
@@ -168,10 +171,6 @@ def rate_dependent_update(lam_m: ArrayLike, p: ArrayLike, dt: float, dissipation
 # ----------------------------------------------------------------------------------------------------------
 
 
-class NonConvexWarning(UserWarning):
-    """The incremental potential has more than one local minimum on the search interval."""
-
-
 def variational_update(
     free_energy,
     dissipation: Dissipation,
@@ -234,136 +233,11 @@ def variational_update(
     return out[()] if out.ndim == 0 else out
 
 
-def _evaluate(F, lam):
-    """F on an array of λ; point by point when the user's Ψ is not vectorised."""
-    try:
-        values = np.asarray(F(lam), dtype=float)
-    except (TypeError, ValueError):
-        values = None
-    if values is None or values.shape != np.shape(lam):
-        values = np.array([float(F(x)) for x in np.ravel(lam)]).reshape(np.shape(lam))
-    if not np.all(np.isfinite(values)):
-        raise ValueError("free_energy returned a non-finite value on the search interval; restrict bounds")
-    return values
-
-
-_PROBE = 2.0 ** np.arange(1, 9)  # probe distances, in search half-widths, of a search for a distant well
-
-
-def _argmin_with_kink(F, center, width, lo, hi, n, on_nonconvex, max_expansions):
-    """Global minimiser of the scalar F on [lo, hi] near ``center``, where F may have a kink."""
-    for _ in range(max_expansions):
-        a, b = max(center - width, lo), min(center + width, hi)
-        half = n // 2 + 1  # the kink λ_m is a grid point, with n//2 cells on each side
-        lam = np.concatenate((np.linspace(a, center, half)[:-1], np.linspace(center, b, half)))
-        lam = lam[np.concatenate(([True], np.diff(lam) > 0))]  # drop repeats where λ_m sits on a bound
-        values = _evaluate(F, lam)
-        k = int(np.argmin(values))
-        if (k == 0 and a > lo) or (k == lam.size - 1 and b < hi):
-            width *= 2.0
-            continue
-        # probe far beyond the interval for a lower value, i.e. a distant well of a non-convex Ψ
-        ladder = center + width * np.concatenate((-_PROBE, _PROBE))
-        ladder = ladder[(ladder >= lo) & (ladder <= hi)]
-        lower = ladder[_evaluate(F, ladder) < values[k]] if ladder.size else ladder
-        if lower.size:
-            width = float(np.max(np.abs(lower - center)))
-            continue
-        break
-    else:
-        raise RuntimeError(
-            f"variational_update: the incremental potential keeps decreasing at λ = {lam[k]:.6g} after "
-            f"{max_expansions} doublings of the search interval; is Ψ bounded below?"
-        )
-    # grid basins: indices not higher than their neighbours, runs of equal values counted once
-    padded = np.concatenate(([np.inf], values, [np.inf]))
-    is_min = (padded[1:-1] <= padded[:-2]) & (padded[1:-1] <= padded[2:])
-    basins = np.flatnonzero(is_min & ~np.concatenate(([False], is_min[:-1])))
-    candidates = [center]
-    for i in basins:
-        left, right = lam[max(i - 1, 0)], lam[min(i + 1, lam.size - 1)]
-        for l_, r_ in ((left, min(right, center)), (max(left, center), right)):
-            if r_ > l_:  # a bracket on one smooth side of the kink
-                candidates.append(_refine(F, l_, r_, center, lo, hi))
-    candidates = np.array(candidates)
-    values_c = _evaluate(F, candidates)
-    best = candidates[int(np.argmin(values_c))]
-    if basins.size > 1 and on_nonconvex != "ignore":
-        msg = (
-            f"incremental potential is non-convex: {basins.size} local minima near λ = "
-            f"{np.array2string(lam[basins], precision=4)}; returned the lowest, λ = {best:.6g} (global on the "
-            f"searched interval [{a:.4g}, {b:.4g}] up to the grid spacing {np.max(np.diff(lam)):.3g})"
-        )
-        if on_nonconvex == "raise":
-            raise RuntimeError(msg)
-        warnings.warn(msg, NonConvexWarning, stacklevel=4)
-    return float(best)
-
-
-def _refine(F, left, right, kink, lo, hi):
-    """Minimise F on [left, right], a bracket on which F is smooth (the kink is at most an end point).
-
-    Newton polishing uses a 5-point stencil x ± 2h that stays on x's side of the kink and within [lo, hi].
-    """
-    x = minimize_scalar(lambda t: float(_evaluate(F, np.array([t]))[0]), bounds=(left, right), method="bounded",
-                        options={"xatol": 1e-14 * max(right - left, 1e-300), "maxiter": 500}).x
-    x_brent, f_brent = x, float(_evaluate(F, np.array([x]))[0])
-    side = np.sign(x - kink)
-    h = 1e-3 * (right - left)
-    for _ in range(8):
-        h = min(h, (x - lo) / 3.0, (hi - x) / 3.0, abs(x - kink) / 3.0 if side != 0 else np.inf)
-        if h <= 1e-12 * max(abs(x), right - left):
-            break
-        f = _evaluate(F, x + h * np.array([-2.0, -1.0, 0.0, 1.0, 2.0]))
-        grad = (f[0] - 8 * f[1] + 8 * f[3] - f[4]) / (12 * h)
-        curv = (f[1] - 2 * f[2] + f[3]) / h**2
-        if not curv > 0:
-            break
-        x_new = float(np.clip(x - grad / curv, left, right))
-        if side != 0 and np.sign(x_new - kink) != side:
-            x_new = kink
-        done = abs(x_new - x) <= 1e-15 * max(abs(x), right - left)
-        x = x_new
-        if done:
-            break
-    f_new = float(_evaluate(F, np.array([x]))[0])
-    return x if f_new <= f_brent + 8 * np.finfo(float).eps * max(abs(f_brent), 1.0) else x_brent
-
 
 # ----------------------------------------------------------------------------------------------------------
 # Two 1D models with closed-form updates
 # ----------------------------------------------------------------------------------------------------------
 
-
-class _Model1D:
-    """Shared time stepping: the scheme picks the strain level and the λ level of the driving force."""
-
-    def update(self, state_m, eps_m, eps_new, dt, dissipation: Dissipation, scheme: str = "implicit", **kw):
-        """New state after one step, for a scheme of :data:`SCHEMES` or ``"variational"`` (numerical).
-
-        Rate-dependent: the λ level m gives a forward step λ^m + Δt λ̇(ε*, λ^m) (Eqs. 2.112, 4.53), the level
-        m+1 a backward step solved in closed form. Rate-independent: Δρ follows from the consistency condition
-        Φ(ε*, λ^{m+1}) = 0 (Eqs. 2.109, 2.110, 4.49) whatever the λ level; only the strain level ε* matters.
-        """
-        dt = check_positive("dt", dt)
-        if scheme == "variational":
-            return self.variational_step(eps_new, state_m, dt, dissipation, **kw)
-        strain_level, lambda_level = SCHEMES[check_option("scheme", scheme, (*SCHEMES, "variational"))]
-        eps_star = eps_new if strain_level == "m+1" else eps_m
-        if dissipation.is_rate_independent or lambda_level == "m+1":
-            return self.backward_step(eps_star, state_m, dt, dissipation)
-        return self.forward_step(eps_star, state_m, dt, dissipation)
-
-    def forward_step(self, eps, state_m, dt, dissipation: Dissipation):
-        """λ^{m+1} = λ^m + Δt λ̇(ε, λ^m): Eq. (2.112) (corrected switch) with p at (ε, λ^m), Eq. (4.53)."""
-        rates = self.state_rate(eps, state_m, dissipation)
-        return type(state_m)(*(np.asarray(x, float) + dt * r for x, r in zip(state_m, rates, strict=True)))
-
-    def consistency_parameter(self, eps, state_m, state):
-        """Δρ = |Δλ| / |p(ε, λ^{m+1})| [1/MPa], Eq. (2.105) in increments: λ^{m+1} - λ^m = Δρ p (Eq. 2.109)."""
-        step = np.abs(np.asarray(state[0], float) - np.asarray(state_m[0], float))
-        p = np.abs(self.driving_force(eps, state))
-        return np.divide(step, p, out=np.zeros(np.broadcast(step, p).shape), where=step > 0)
 
 
 class DamageState(NamedTuple):
@@ -638,7 +512,3 @@ def convergence_study(model, dissipation: Dissipation, strain_fn, t_end, n_steps
     result["orders"] = {s: observed_order(result[s]["dt"], result[s]["error"]) for s in schemes}
     return result
 
-
-# ----------------------------------------------------------------------------------------------------------
-# Demo
-# ----------------------------------------------------------------------------------------------------------
