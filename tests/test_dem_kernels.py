@@ -221,7 +221,7 @@ def test_a_contact_set_pickled_before_the_results_were_deferred_still_loads():
 def test_the_compiled_pair_scatter_gives_the_bincount_sums_to_the_last_bit():
     """Pairs that share particles, in any order: the compiled loop's force and torque sums are the NumPy
     version's (np.bincount), bit for bit, so the fatigue bonds' and contacts' loads do not change with numba."""
-    from abrakit.dem.simulation import _scatter_pair_loads
+    from abrakit.dem._bookkeeping import _scatter_pair_loads
 
     rng = np.random.default_rng(3)
     n, m = 40, 300

@@ -379,7 +379,7 @@ def fatigue_bond_trial(i, j, x, v, w, radius, elastic_n, elastic_s, damage, kn, 
 
 @njit(cache=True)
 def scatter_pair_loads(force, torque, i, j, force_on_j, torque_on_i, torque_on_j):  # pragma: no cover - compiled
-    """:func:`~abrakit.dem.simulation._scatter_pair_loads` as one loop over the pairs: each particle's four sums
+    """:func:`~abrakit.dem._bookkeeping._scatter_pair_loads` as one loop over the pairs: each particle's four sums
     (force on it as j and as i, torque as i and as j) are built in pair order, as ``np.bincount`` builds them,
     and combined as the NumPy version combines them, so both give the same sums to the last bit."""
     N, M = force.shape[0], i.shape[0]

@@ -13,25 +13,41 @@ is rebuilt (contacts appear, Hertz contacts stiffen). A user-given ``dt`` above 
 studying the instability itself (the exercise of the DEM chapter). Δt is also kept below the time in which the
 fastest particle travels a quarter of the smallest radius (:meth:`Simulation.travel_time_step`), re-checked at every
 rebuild: a 1000 m/s particle would otherwise step over a sphere without touching it.
+
+Beside the class, in private modules: the compiled contact stage (``_compiled_step``), the sums of loads onto the
+particles and the energy account (``_bookkeeping``), the contact sets across rebuilds and removals
+(``_contact_sets``) and the time step's springs and policy (``_time_step``).
 """
 
 from __future__ import annotations
 
 import copy
 import warnings
-from collections.abc import Mapping
 from dataclasses import dataclass
 
 import numpy as np
 
 from abrakit.compiled import HAVE_NUMBA
+from abrakit.dem._bookkeeping import (
+    _account,
+    _elastic_energy,
+    _gather,
+    _pair_dashpot_loads,
+    _place,
+    _scatter,
+    _scatter_pair_loads,
+    _Taken,
+)
+from abrakit.dem._compiled_step import _ball_ball_compiled, _ball_wall_compiled, _wall_parameters
+from abrakit.dem._contact_sets import _rebuilt_contacts, _renumbered
+from abrakit.dem._time_step import _particle_springs, _policed_time_step, _travel_time_step
 from abrakit.dem.bonds import CrackLog, ParallelBonds, _parallel_bond_update
 from abrakit.dem.clumps import make_clumps
 from abrakit.dem.contact_laws import ContactForces, Linear, _cross, _dot, _force_displacement, _rowdot
 from abrakit.dem.fatigue_bonds import BROKEN, FatigueBonds
-from abrakit.dem.integrate import _leapfrog, _local_damping, critical_time_step, particle_stiffness
-from abrakit.dem.neighbours import VerletList, candidate_pairs, transfer_history, wall_candidates
-from abrakit.dem.state import ContactSet, Particles, pair_keys
+from abrakit.dem.integrate import _leapfrog, _local_damping, critical_time_step
+from abrakit.dem.neighbours import VerletList, transfer_history, wall_candidates
+from abrakit.dem.state import ContactSet, Particles
 from abrakit.dem.walls import Walls
 from abrakit.io import progress_bar
 from abrakit.validation import check_finite, check_option, check_positive, check_range
@@ -82,64 +98,9 @@ class EnergyAccount:
         return self.stored + self.dissipated - (self.initial or 0.0) - self.work
 
 
-def _gather(a, index):
-    """Rows ``a[index]`` of an (N, 3) array as a component-major (3, M) array (``np.take`` is the fast gather)."""
-    return np.take(a.T, index, axis=1)
-
-
-def _place(values, index, m):
-    """A (…, m) array that holds ``values`` (…, K) at ``index`` and zeros elsewhere."""
-    out = np.zeros(values.shape[:-1] + (m,), values.dtype)
-    for row, part in zip(out.reshape(-1, m), values.reshape(out.size // m, -1), strict=True):   # by rows
-        row[index] = part
-    return out
-
-
-class _Taken(Mapping):
-    """The per-contact parameters ``prm`` of the contacts ``index``, each taken when first read (a law reads only
-    the ones it needs)."""
-
-    def __init__(self, prm: dict, index):
-        self._prm, self._index, self._taken = prm, index, {}
-
-    def __getitem__(self, key):
-        if key not in self._taken:
-            self._taken[key] = self._prm[key][self._index]
-        return self._taken[key]
-
-    def __iter__(self):
-        return iter(self._prm)
-
-    def __len__(self) -> int:
-        return len(self._prm)
-
-
-def _scatter(out, index, values, sign=1.0):
-    """out[index] += sign · values for (N, 3) ``out`` and (3, M) ``values``, summed with np.bincount."""
-    n = len(out)
-    for k in range(3):
-        out[:, k] += sign * np.bincount(index, values[k], n)
-
-
 COMPILED_SCATTER = HAVE_NUMBA
 """Whether the pair loads of contacts and bonds are summed onto the particles by a compiled loop (where numba is
-installed; the same sums as np.bincount's, bit for bit)."""
-
-
-def _scatter_pair_loads(force, torque, i, j, force_on_j, torque_on_i, torque_on_j, *, compiled=None) -> None:
-    """Add the force of pairs i–j (on j, its reaction on i) and their torques on i and j to the particle sums
-    (contacts and bonds; each component's two sums are added at once). Where numba is installed, one compiled
-    loop builds the same sums in the same order (``compiled``, default :data:`COMPILED_SCATTER`;
-    :func:`abrakit.dem.kernels.scatter_pair_loads`)."""
-    if COMPILED_SCATTER if compiled is None else compiled:
-        from abrakit.dem.kernels import scatter_pair_loads
-
-        return scatter_pair_loads(force, torque, i, j, np.ascontiguousarray(force_on_j),
-                                  np.ascontiguousarray(torque_on_i), np.ascontiguousarray(torque_on_j))
-    n = len(force)
-    for k in range(3):
-        force[:, k] += np.bincount(j, force_on_j[k], n) - np.bincount(i, force_on_j[k], n)
-        torque[:, k] += np.bincount(i, torque_on_i[k], n) + np.bincount(j, torque_on_j[k], n)
+installed; the same sums as np.bincount's, bit for bit), read at every step."""
 
 
 class Simulation:
@@ -309,8 +270,8 @@ class Simulation:
         wall_velocity_old = self.walls.velocity.copy()
         self._move_walls(dt)
         if self.track_energy:
-            self._account(stored, force, force_total - force, torque_total - torque, v_old, w_old,
-                          wall_velocity_old, clump_damping)
+            _account(self, stored, force, force_total - force, torque_total - torque, v_old, w_old,
+                     wall_velocity_old, clump_damping)
 
     def _move_walls(self, dt) -> None:
         """Servos set their walls' velocities from this step's wall forces; then every wall moves."""
@@ -327,15 +288,9 @@ class Simulation:
         p, c = self.particles, self.contacts
         if not len(c):
             return self._no_contacts(c)
-        if self.kernel == "numba":
-            r, overlap, n, failed = self._ball_ball_compiled(force, torque)
+        if self.kernel == "numba":                                    # the kernel updates the contact set
+            r, overlap, n, failed = _ball_ball_compiled(self, force, torque)
             live, prm = slice(None), c.prm
-            c.ft = r.ft
-            if n is None:                     # the lean kernel: results built from this step's positions if read
-                self._defer_compiled_results(p.x.copy(), overlap, r)
-                n = c.normal if failed else None
-            else:
-                c.fn, c.force, c.normal = r.fn, r.force, n
         else:
             d, dist = self._branches(p.x)                             # Eq. (4.2)
             overlap = self._radius_sum - dist                         # Eq. (4.3)
@@ -355,13 +310,10 @@ class Simulation:
         if not self.track_energy:
             return 0.0
         self.energy.friction += r.slip_dissipation
-        if r.dashpot_force is not None:      # dashpot power is counted on the particles, like local damping
-            f, lever = r.dashpot_force, _cross(n, r.dashpot_force)
-            _scatter(self._dashpot[0], j, f)
-            _scatter(self._dashpot[0], i, f, -1.0)
-            _scatter(self._dashpot[1], i, (p.radius[i] - 0.5 * overlap) * lever, -1.0)
-            _scatter(self._dashpot[1], j, (p.radius[j] - 0.5 * overlap) * lever, -1.0)
-        return self._elastic_energy(prm, overlap, c.bonded[live], c.bond_gap[live], r)
+        if r.dashpot_force is not None:
+            _pair_dashpot_loads(self._dashpot, r.dashpot_force, n, i, j, p.radius[i] - 0.5 * overlap,
+                                p.radius[j] - 0.5 * overlap)
+        return _elastic_energy(self.law, prm, overlap, c.bonded[live], c.bond_gap[live], r)
 
     def _live_contact_forces(self, live, prm, overlap, n, force, torque) -> ContactForces:
         """The law on the contacts ``live`` (indices; their parameters ``prm`` and normals ``n``; Eq. 4.4–4.10),
@@ -376,30 +328,9 @@ class Simulation:
         r = _force_displacement(self.law, prm, U, n, v_rel, np.take(c.ft, live, axis=1), self.dt, *bonds,
                                energy=self.track_energy)
         moment = _cross(r.force, n)                                    # −n × F per unit arm: torque = r' F × n
-        _scatter_pair_loads(force, torque, i, j, r.force, arm_i * moment, arm_j * moment)   # B: +F, A: −F
+        _scatter_pair_loads(force, torque, i, j, r.force, arm_i * moment, arm_j * moment,   # B: +F, A: −F
+                            compiled=COMPILED_SCATTER)
         return r
-
-    def _ball_ball_compiled(self, force, torque):
-        """The same contact step through the numba kernel (:mod:`abrakit.dem.kernels`). Without dashpots and
-        without an energy account the kernel runs lean (normals, normal and total forces not written; ``n`` is
-        None) and :meth:`_defer_compiled_results` rebuilds them when read."""
-        from abrakit.dem.kernels import linear_contacts
-
-        p, c, prm = self.particles, self.contacts, self.contacts.prm
-        damped = self.law.damping_normal or self.law.damping_shear
-        full = self.track_energy or damped
-        m = len(c)
-        k = m if full else 0
-        overlap, fn, trial = np.empty(m), np.empty(k), np.empty(k)
-        ft, n, total = np.empty((3, m)), np.empty((3, k)), np.empty((3, k))
-        dashpot = np.empty((3, m if damped else 0))
-        flags = np.zeros((4, m), np.bool_)
-        failed = linear_contacts(p.x, p.v, p.w, p.radius, c.i, c.j, prm["kn"], prm["kt"], prm["mu"], prm["beta_n"],
-                        prm["beta_t"], c.ft, c.bonded, c.bond_gap, c.bond_normal_strength, c.bond_shear_strength,
-                        self.dt, force, torque, ft, overlap, n, fn, total, dashpot, trial, flags,
-                        *self._cell_matrices(), full)
-        r = self._compiled_forces(prm, total if full else None, fn if full else None, ft, flags, trial, dashpot)
-        return r, overlap, n if full else None, failed > 0
 
     def _branches(self, x):
         """Branch vectors d = x_B − x_A (3, M) of the candidate contacts (nearest images) and their lengths."""
@@ -408,35 +339,6 @@ class Simulation:
         if self.periodic is not None:
             d = self.periodic.minimum_image(d, axis=0)
         return d, np.sqrt(_dot(d, d))
-
-    def _defer_compiled_results(self, x, overlap, r) -> None:
-        """Normals, normal and total forces of a lean kernel step (results ``r``), built when read from the step's
-        positions ``x``: n = d/|d| (Eq. 4.1), F^n = K^n U for U > 0 or K^n (U + gap) for a bond still intact
-        (Eq. 4.6), F = F^n n + F^t (no dashpots), as the kernel computes them."""
-        c, law = self.contacts, self.law
-        bonded, gap = None, None
-        if c.bonded.any():
-            bonded, gap = c.bonded & ~(r.tension_failure | r.shear_failure), c.bond_gap.copy()
-
-        def fn():                                          # as force_displacement: the law, a bond's K^n (U + gap)
-            spring = law.normal_force(overlap, c.prm)[0]
-            return spring if bonded is None else np.where(bonded, c.prm["kn"] * (overlap + gap), spring)
-
-        c.defer(normal=lambda: np.divide(*self._branches(x)), fn=fn, force=lambda: c.fn * c.normal + r.ft)
-
-    def _compiled_forces(self, prm, total, fn, ft, flags, trial, dashpot) -> ContactForces:
-        """The kernels' outputs as the :class:`ContactForces` of the NumPy path (slip work as μF^n · slip;
-        ``total`` and ``fn`` are None after a lean kernel)."""
-        m = len(ft[0])
-        slip = 0.0
-        if self.track_energy and flags[1].any():
-            limit = prm["mu"] * fn
-            length = np.divide(trial - limit, prm["kt"], out=np.zeros(m), where=flags[1] & (prm["kt"] > 0))
-            slip = float(np.sum(limit * length))
-        damped = self.law.damping_normal or self.law.damping_shear
-        tension, shear = (flags[2], flags[3]) if len(flags) == 4 else (np.zeros(m, bool),) * 2
-        return ContactForces(total, fn, ft, flags[0], flags[1], tension, shear, slip, dashpot if damped else None,
-                             prm["kn"], prm["kt"])
 
     def _ball_wall(self, force, torque) -> float:
         """Particle–wall contacts: the wall is body A, its normal the contact normal."""
@@ -448,7 +350,7 @@ class Simulation:
         k, j = c.i, c.j
         n = self._wall_normal
         if self.kernel == "numba":
-            r, overlap = self._ball_wall_compiled(force, torque)
+            r, overlap = _ball_wall_compiled(self, force, torque)
             c.ft, c.overlap, c.normal, c.fn, c.force = r.ft, overlap, n, r.fn, r.force
             if not self.track_energy:
                 return 0.0
@@ -471,22 +373,7 @@ class Simulation:
             _scatter(self._dashpot[0], j, f)
             _scatter(self._dashpot[1], j, arm * _cross(n, f), -1.0)
             self._dashpot_wall += float(np.sum(f * _gather(walls.velocity, k)))
-        return self._elastic_energy(c.prm, overlap, c.bonded, c.bond_gap, r)
-
-    def _ball_wall_compiled(self, force, torque):
-        """The particle–wall step through the numba kernel."""
-        from abrakit.dem.kernels import linear_wall_contacts
-
-        p, c, walls, prm = self.particles, self.wall_contacts, self.walls, self.wall_contacts.prm
-        m = len(c)
-        overlap, fn, trial = np.empty(m), np.empty(m), np.empty(m)
-        ft, total = np.empty((3, m)), np.empty((3, m))
-        dashpot = np.empty((3, m if self.law.damping_normal or self.law.damping_shear else 0))
-        flags = np.empty((2, m), np.bool_)
-        linear_wall_contacts(p.x, p.v, p.w, p.radius, c.i, c.j, walls.normal, walls.point, walls.velocity,
-                             *self._wall_prm, c.ft, self.dt, force, torque, walls.force, self._wall_stiffness, ft,
-                             overlap, fn, total, dashpot, trial, flags)
-        return self._compiled_forces(prm, total, fn, ft, flags, trial, dashpot), overlap
+        return _elastic_energy(self.law, c.prm, overlap, c.bonded, c.bond_gap, r)
 
     @staticmethod
     def _no_contacts(c) -> float:
@@ -500,7 +387,7 @@ class Simulation:
             return 0.0
         p = self.particles
         new, f, t_i, t_j, tension, shear, point = _parallel_bond_update(b, p.x, p.v, p.w, p.radius, self.dt)
-        _scatter_pair_loads(force, torque, new.i, new.j, f, t_i, t_j)
+        _scatter_pair_loads(force, torque, new.i, new.j, f, t_i, t_j, compiled=COMPILED_SCATTER)
         broken = tension | shear
         if broken.any():
             for mode, mask in (("tension", tension), ("shear", shear)):
@@ -515,7 +402,7 @@ class Simulation:
             return 0.0
         p = self.particles
         new, f, t_i, t_j, point = b.update(p.x, p.v, p.w, p.radius, self.dt)
-        _scatter_pair_loads(force, torque, new.i, new.j, f, t_i, t_j)
+        _scatter_pair_loads(force, torque, new.i, new.j, f, t_i, t_j, compiled=COMPILED_SCATTER)
         broken = new.damage >= BROKEN
         if broken.any():
             tension = broken & (new.plastic[0] + new.fatigue[0] >= new.plastic[1] + new.fatigue[1])
@@ -525,54 +412,12 @@ class Simulation:
         self.fatigue_bonds = new
         return new.energy() if self.track_energy else 0.0
 
-    def _elastic_energy(self, prm, overlap, bonded, bond_gap, r) -> float:
-        normal = self.law.normal_energy(overlap, prm)
-        if bonded.any():
-            normal = np.where(bonded, 0.5 * prm["kn"] * (overlap + bond_gap) ** 2, normal)
-        kt = np.broadcast_to(r.kt, r.fn.shape)
-        shear = np.divide(0.5 * _dot(r.ft, r.ft), kt, out=np.zeros_like(r.fn), where=kt > 0)
-        return float(np.sum(normal * r.touching) + np.sum(shear))
-
     def _record_contact_cracks(self, r, i, j, index, point):
         """Log the bonds that broke in ``r`` (results of the contacts ``index``, pairs ``i``–``j``, contact points
         ``point``) and unbond them."""
         for mode, mask in (("tension", r.tension_failure), ("shear", r.shear_failure)):
             self.cracks.record(self.time, point[:, mask].T, i[mask], j[mask], mode, "contact")
         self.contacts.bonded[index[r.tension_failure | r.shear_failure]] = False
-
-    def _account(self, stored, force, damping_force, damping_torque, v_old, w_old, wall_velocity_old,
-                 clump_damping):
-        """Stored energies at time t and this step's dissipation and external work (leap-frog mid values)."""
-        p, e, dt = self.particles, self.energy, self.dt
-        v_mid, w_mid = 0.5 * (v_old + p.v), 0.5 * (w_old + p.w)      # velocities at time t
-        if self.step_count == 0:
-            v_mid, w_mid = v_old, w_old
-        free = p.clump < 0
-        e.kinetic = 0.5 * float(np.sum(p.mass[free] * _rowdot(v_mid[free], v_mid[free]))
-                                + np.sum(p.inertia[free] * _rowdot(w_mid[free], w_mid[free])))
-        if self.clumps is not None:
-            e.kinetic += self.clumps.kinetic_mid
-        e.elastic = stored
-        e.potential = -float(np.sum(p.mass * ((p.x - p.v * dt) @ self.gravity)))   # positions at time t
-        if self.step_count == 0:
-            e.local_damping = e.dashpot = 0.0        # a half kick: the work of the first half step is not booked
-        movable = (free & ~p.fixed)[:, None]
-        if self.local_damping:
-            e.local_damping -= float(np.sum(damping_force * v_mid * movable)
-                                     + np.sum(damping_torque * w_mid * movable)) * dt
-            e.local_damping += clump_damping
-        if self.law.damping_normal or self.law.damping_shear:
-            f, m = self._dashpot
-            e.dashpot -= float(np.sum(f * v_mid) + np.sum(m * w_mid) - self._dashpot_wall) * dt
-        if self.applied_force is not None:
-            e.work_applied += float(np.sum(self.applied_force * v_mid)) * dt
-        if p.fixed.any():
-            e.work_prescribed -= float(np.sum(force[p.fixed] * p.v[p.fixed])) * dt
-        if len(self.walls):
-            wall_v = 0.5 * (wall_velocity_old + self.walls.velocity)
-            e.work_walls -= float(np.sum(self.walls.force * wall_v)) * dt
-        if e.initial is None:
-            e.initial = e.stored
 
     # ------------------------------------------------------------------ neighbour lists and time step
     def rebuild(self, extra_pairs=None, skin: float | None = None) -> None:
@@ -581,39 +426,18 @@ class Simulation:
             self.skin = self.neighbours.skin = float(skin)
         self._check_domain()
         p = self.particles
-        n = len(p)
         if self.periodic is not None:
             self.periodic.wrap(p.x)
-        i, j = candidate_pairs(p.x, p.radius, self.skin, p.clump if self.clumps is not None else None,
-                               self.periodic, compiled=self.kernel == "numba")
-        keys = pair_keys(i, j, n)
-        old = self.contacts
-        forced = [old.keys[old.bonded]] if len(old) else []
-        if extra_pairs is not None and len(extra_pairs):
-            forced.append(pair_keys(extra_pairs[:, 0], extra_pairs[:, 1], n))
-        forced = [f for f in forced if len(f)]
-        if forced:
-            keys = np.union1d(keys, np.concatenate(forced))
-            i, j = keys // n, keys % n
-        new = transfer_history(old, ContactSet.empty_history(i, j, n))
-        new.prm = self.law.pair_parameters(p, i, j)
-        d = self.branch(i, j)
-        coincident = _rowdot(d, d) <= (1e-12 * (p.radius[i] + p.radius[j])) ** 2
-        if coincident.any():
-            a = int(np.argmax(coincident))
-            raise ValueError(f"particles {i[a]} and {j[a]} have coincident centres: the contact normal "
-                             "(Eq. 4.1) is undefined; separate them")
-        self.contacts = new
-        self._radius_sum = p.radius[i] + p.radius[j]
+        self.contacts = c = _rebuilt_contacts(self, extra_pairs)
+        self._radius_sum = p.radius[c.i] + p.radius[c.j]
         k, jw = wall_candidates(p.x, p.radius, self.walls, self.skin)
-        wall_new = transfer_history(self.wall_contacts, ContactSet.empty_history(k, jw, n))
+        wall_new = transfer_history(self.wall_contacts, ContactSet.empty_history(k, jw, len(p)))
         wall_new.prm = self.law.wall_parameters(p, self.walls, k, jw)
         self.wall_contacts = wall_new
         self._radius_wall = p.radius[jw]
         self._wall_normal = _gather(self.walls.normal, k)            # walls translate only: fixed until the next build
         if type(self.law) is Linear:                 # per contact, for the compiled wall loop
-            self._wall_prm = tuple(np.ascontiguousarray(np.broadcast_to(wall_new.prm[q], (len(jw),)), dtype=float)
-                                   for q in ("kn", "kt", "mu", "beta_n", "beta_t"))
+            self._wall_prm = _wall_parameters(wall_new.prm, len(jw))
         self._wall_stiffness = np.zeros(len(self.walls))
         self.neighbours.mark_built(p.x, self.walls.point)
         self.update_time_step()
@@ -648,88 +472,25 @@ class Simulation:
         Every particle counts at least one contact with a particle like itself, at 1 % overlap for Hertz, so
         the estimate is finite (and safe for a first impact) even in a loose gas.
         """
-        p, law, n = self.particles, self.law, len(self.particles)
-        springs_t, springs_r = [], []
-        for c, sides in ((self.contacts, ("i", "j")), (self.wall_contacts, ("j",))):
-            if not len(c):
-                continue
-            reference = 0.01 * (p.radius[c.j] if len(sides) == 1 else np.minimum(p.radius[c.i], p.radius[c.j]))
-            if getattr(law, "constant_stiffness", False):
-                gap_overlap = reference
-            elif len(sides) == 2:
-                gap_overlap = p.radius[c.i] + p.radius[c.j] - np.linalg.norm(self.branch(c.i, c.j), axis=1)
-            else:
-                gap_overlap = p.radius[c.j] - _rowdot(p.x[c.j] - self.walls.point[c.i], self.walls.normal[c.i])
-            fn, kn = law.normal_force(np.maximum(gap_overlap, reference), c.prm)
-            kt = np.broadcast_to(law.shear_stiffness(fn, c.prm), fn.shape)
-            kn = np.broadcast_to(kn, fn.shape)
-            for side in sides:
-                idx = getattr(c, side)
-                springs_t.append((idx, np.maximum(kn, kt)))
-                springs_r.append((idx, kt * p.radius[idx] ** 2))
-        b = self.parallel_bonds
-        if len(b):
-            for idx in (b.i, b.j):
-                springs_t.append((idx, np.maximum(b.kn, b.ks) * b.area))
-                springs_r.append((idx, np.maximum(b.kn * b.inertia, b.ks * b.polar)
-                                  + b.ks * b.area * p.radius[idx] ** 2))
-        f = self.fatigue_bonds
-        if len(f):
-            k = np.maximum(f.kn, f.ks) * f.area
-            for idx in (f.i, f.j):
-                springs_t.append((idx, k))
-                springs_r.append((idx, k * p.radius[idx] ** 2))
-        all_ = np.arange(n)
-        self_prm = law.pair_parameters(p, all_, all_)
-        fn, kn = law.normal_force(0.01 * p.radius, self_prm)
-        kt = np.broadcast_to(law.shear_stiffness(fn, self_prm), fn.shape)
-        k_t = np.maximum(particle_stiffness(n, springs_t), np.maximum(kn, kt))
-        k_r = np.maximum(particle_stiffness(n, springs_r), kt * p.radius**2)
+        p = self.particles
+        k_t, k_r = _particle_springs(self)
         return critical_time_step(p.mass, p.inertia, k_t, k_r, movable=~p.fixed)
 
     def travel_time_step(self) -> float:
         """Δt at which the fastest particle moves :data:`MAX_TRAVEL` of the smallest radius (surface speed of its
         spin included) [s], ``inf`` at rest: a contact is then seen before the pair overlaps by more than that, so a
         fast particle cannot step over another one without touching it (tunnelling)."""
-        p = self.particles
-        v, w, radius = (p.v, p.w, p.radius) if not p.fixed.any() else (p.v[~p.fixed], p.w[~p.fixed], p.radius[~p.fixed])
-        if not len(v):
-            return np.inf
-        speed = np.sqrt(_rowdot(v, v)) + np.sqrt(_rowdot(w, w)) * radius
-        fastest = float(speed.max())
-        return np.inf if fastest == 0.0 else MAX_TRAVEL * float(p.radius.min()) / fastest
+        return _travel_time_step(self.particles, MAX_TRAVEL)
 
     def update_time_step(self) -> float:
         """Apply the time-step policy after the contact set changed; returns Δt_crit. The step is also kept below
         :meth:`travel_time_step` (a fast particle would otherwise cross a contact zone in one step)."""
         dt_crit = self.critical_time_step()
-        dt_travel = self.travel_time_step()
-        if self.auto_dt:
-            self._dt = min(self.safety * dt_crit, dt_travel)
-        elif self._dt > dt_travel and dt_travel < dt_crit and self.dt_policy != "allow":
-            if self.dt_policy == "raise":
-                raise TimeStepError(
-                    f"dt = {self._dt:.4g} s lets the fastest particle move more than {MAX_TRAVEL:g} of the smallest "
-                    f"radius per step (use dt <= {dt_travel:.4g} s, dt=None (automatic) or dt_policy='reduce')")
-            warnings.warn(f"dt = {self._dt:.4g} s lets the fastest particle move more than {MAX_TRAVEL:g} of the "
-                          f"smallest radius per step; reduced to {dt_travel:.4g} s", RuntimeWarning, stacklevel=3)
-            self._dt = dt_travel
-        elif self._dt > dt_crit:
-            if self.dt_policy == "raise":
-                raise TimeStepError(
-                    f"dt = {self._dt:.4g} s exceeds the critical time step {dt_crit:.4g} s (seed 002 Eq. 11, 12); "
-                    f"use dt <= {self.safety * dt_crit:.4g} s, dt=None (automatic) or dt_policy='reduce'")
-            if self.dt_policy == "allow":
-                if not self._warned_unstable:
-                    warnings.warn(f"dt = {self._dt:.4g} s exceeds the critical time step {dt_crit:.4g} s and is kept "
-                                  "(dt_policy='allow'): the run may become unstable", RuntimeWarning, stacklevel=3)
-                    self._warned_unstable = True
-                return dt_crit
-            warnings.warn(f"dt = {self._dt:.4g} s exceeds the critical time step {dt_crit:.4g} s; reduced to "
-                          f"{self.safety * dt_crit:.4g} s", RuntimeWarning, stacklevel=3)
-            self._dt = self.safety * dt_crit
-        if not np.isfinite(self._dt):
-            raise TimeStepError("no stiffness in the system: give dt explicitly")
+        self._dt, refusal, self._warned_unstable = _policed_time_step(
+            self._dt, dt_crit, self.travel_time_step(), auto=self.auto_dt, safety=self.safety, policy=self.dt_policy,
+            warned=self._warned_unstable, max_travel=MAX_TRAVEL)
+        if refusal is not None:
+            raise TimeStepError(refusal)
         return dt_crit
 
     # ------------------------------------------------------------------ periodic cell, snapshots
@@ -802,23 +563,8 @@ class Simulation:
         if np.any(p.clump[mask] >= 0):
             raise ValueError("clump members cannot be removed one by one")
         keep = np.flatnonzero(~mask)
-        new_index = np.full(len(p), -1, np.int64)
-        new_index[keep] = np.arange(len(keep))
-        n_new = len(keep)
-        for name in ("contacts", "wall_contacts"):
-            c = getattr(self, name)
-            ok = (new_index[c.j] >= 0) & ((new_index[c.i] >= 0) if name == "contacts" else True)
-            i = new_index[c.i[ok]] if name == "contacts" else c.i[ok]
-            j = new_index[c.j[ok]]
-            fresh = ContactSet.empty_history(i, j, n_new)
-            for h in ContactSet.HISTORY:
-                getattr(fresh, h)[:] = getattr(c, h)[..., ok]
-            setattr(self, name, fresh)
-        for name in ("parallel_bonds", "fatigue_bonds"):
-            b = getattr(self, name)
-            b = b.take((new_index[b.i] >= 0) & (new_index[b.j] >= 0))
-            b.i, b.j = new_index[b.i], new_index[b.j]
-            setattr(self, name, b)
+        self.contacts, self.wall_contacts, self.parallel_bonds, self.fatigue_bonds = _renumbered(
+            keep, len(p), self.contacts, self.wall_contacts, self.parallel_bonds, self.fatigue_bonds)
         if self.applied_force is not None:
             self.applied_force = self.applied_force[keep]
         self.particle_force = self.particle_force[keep]

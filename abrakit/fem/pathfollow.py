@@ -61,8 +61,8 @@ import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
 from ..io import progress_bar
-from ..materials.base import MaterialResponse
 from ..validation import check_finite, check_number_fields, check_option, check_positive, check_range
+from ._path_run import _Walk
 from .linsolve import LinearSolveError
 from .recorder import RunRecorder
 from .solver import NewtonFailure, Solver, SolveResult, StepContext, StepFailed
@@ -452,119 +452,98 @@ class PathFollowingSolver(Solver):
         constraint, targets and counters of its checkpoint and gives the curve of a run never stopped."""
         check_range("stop_force", stop_force, 0.0, 1.0, high_open=True)
         check_range("checkpoint_every", checkpoint_every, 0, None)
-        ctrl, kin = self.path, self.kin
         recorder = RunRecorder(self, output, vtu_every, ("constraint", "v", "P", "released"),
-                             checkpoint_every=int(checkpoint_every))
+                               checkpoint_every=int(checkpoint_every))
         saved = recorder.resume() if resume else None
-        if saved is None:
-            state, lam = self.material.initial_state((kin.nel, kin.nqp)), 0.0
-            u = self._at(np.zeros(self.constraints.free.size), 0.0, np.zeros(kin.ndof))
-        else:
-            state, lam, u = saved["state"], saved["load_factor"], saved["u"]
-        ctx0 = StepContext(0, lam, 0.0, lam * self.duration, 0.0, 0, u, u, state, np.zeros(kin.ndof))
-        response, _, f_int, _, extra_K = self.evaluate(u, state, ctx0)
-        cutbacks, work, peak, first_step = 0, 0.0, 0.0, 1
-        if self.method == "arc-length":
-            constraint = ArcLength(ctrl.arc_length) if ctrl.arc_length else LoadFactorControl(ctrl.initial)
-        else:
-            constraint = LoadFactorControl(ctrl.initial)
-        firsts, previous, last_dlam = {}, None, ctrl.initial       # firsts: each constraint's first target
-        if saved is None:
-            v, P = self.load_pair(u, lam, f_int)
-            recorder.record(0, lam, u, f_int, response, state, 0, [], constraint=0, v=v, P=P, released=0.0)
-        else:                                         # continue exactly where the checkpoint left the run
-            c, arrays = saved["meta"]["control"], saved["arrays"]
-            f_int = arrays.get("f_int", f_int)
-            if "tangent" in arrays:        # the converged step's tangent starts the next step (see constrained_newton)
-                response = MaterialResponse(arrays["stress"], arrays["tangent"], state)
-            recorder.last = (u, state, response, f_int)
-            first_step, cutbacks, work, peak, v, P = c["step"] + 1, c["cutbacks"], c["work"], c["peak"], c["v"], c["P"]
-            constraint = self._constraint(c["constraint"], c["tau"])
-            firsts = {type(self._constraint(name, tau)): tau for name, tau in c["firsts"].items()}
-            last_dlam = c["last_dlam"]
-            if "previous_du" in arrays:
-                previous = (arrays["previous_du"], c["previous_dlam"])
-
-        def checkpoint(step, finished=False):
-            return recorder.checkpoint(
-                u, state, lam, {"step": step, "finished": finished, "cutbacks": cutbacks, "work": work,
-                                "peak": peak, "v": v, "P": P,
-                                "constraint": constraint.name, "tau": constraint.tau, "last_dlam": last_dlam,
-                                "firsts": {t.name: tau for t, tau in firsts.items()},
-                                "previous_dlam": None if previous is None else previous[1]},
-                f_int=f_int, previous_du=None if previous is None else previous[0], stress=response.stress,
-                tangent=response.tangent)
-
+        arc = self.method == "arc-length" and self.path.arc_length
+        first = ArcLength(self.path.arc_length) if arc else LoadFactorControl(self.path.initial)
+        walk, first_step = _Walk.start(self, recorder, saved, first)
         bar = progress_bar(disable=not progress, unit="step", desc="path following")   # the end is not known
         step = first_step - 1
         finished = saved is not None and saved["meta"]["control"].get("finished", False)
         try:
-            for step in range(first_step, ctrl.max_steps + 1 if not finished else first_step):
-                if isinstance(constraint, LoadFactorControl):
-                    constraint.tau = min(constraint.tau, end - lam) if constraint.tau > 0 else constraint.tau
-                try:
-                    u_new, lam_new, response_new, f_new, extra_new, iterations, residuals = self.constrained_newton(
-                        constraint, u, lam, state, f_int, step, (response, extra_K), previous)
-                except ConstraintSingular:
-                    if isinstance(constraint, LoadFactorControl):
-                        raise
-                    constraint = LoadFactorControl(last_dlam)       # nothing to release: back to load control
+            for step in range(first_step, self.path.max_steps + 1 if not finished else first_step):
+                constraint = walk.constraint
+                taken = self._path_step(walk, step, end, recorder)
+                if taken is None:                         # a new or cut-back constraint: try the step again
                     continue
-                except NewtonFailure as failure:
-                    if isinstance(constraint, LoadFactorControl) and previous is not None:
-                        constraint = self._limit_point(previous)          # load control fails: pass the peak
-                        continue
-                    cutbacks += 1
-                    constraint.tau *= ctrl.cutback
-                    reference = firsts.get(type(constraint), ctrl.initial)
-                    if abs(constraint.tau) < max(ctrl.min_ratio * abs(reference), 1e-300) or (
-                            isinstance(constraint, LoadFactorControl) and abs(constraint.tau) < ctrl.minimum):
-                        result = recorder.result(cutbacks)
-                        raise StepFailed(
-                            f"path following from λ={lam:.6g} failed under {constraint.name} control: "
-                            f"{failure.reason}{_better_method(constraint, failure.reason)}", load_factor=lam, u=u,
-                            state=state, reason=failure.reason, result=result,
-                            checkpoint=checkpoint(step - 1)) from failure
-                    continue
-                v_new, P_new = self.load_pair(u_new, lam_new, f_new)
-                released = 0.5 * (P * (v_new - v) - v * (P_new - P))
-                step_work = 0.5 * (P + P_new) * (v_new - v)
-                softening = self._softened(released, step_work)
-                if isinstance(constraint, LoadFactorControl) and previous is not None and softening:
-                    constraint = self._limit_point(previous)     # a load-controlled step that softened may have
-                    continue                                      # jumped a snap-back: redo it path-following
-                work += step_work
-                previous = (u_new - u, lam_new - lam)
-                if isinstance(constraint, LoadFactorControl):
-                    last_dlam = constraint.tau
-                u, lam, response, f_int, state = u_new, lam_new, response_new, f_new, response_new.state
-                extra_K = extra_new
-                v, P = v_new, P_new
-                peak = max(peak, abs(P))
-                recorder.record(step, lam, u, f_int, response, state, iterations, residuals,
-                                constraint=CONSTRAINT_CODES[constraint.name], v=v, P=P, released=released)
+                iterations, residuals, released, softening = taken
+                recorder.record(step, walk.lam, walk.u, walk.f_int, walk.response, walk.state, iterations, residuals,
+                                constraint=CONSTRAINT_CODES[constraint.name], v=walk.v, P=walk.P, released=released)
                 bar.update(1)
                 if on_step is not None:
-                    on_step(recorder.result(cutbacks))
-                if lam >= end - 1e-12 * max(1.0, abs(end)) or (stop_force > 0.0 and peak > 0.0
-                                                                 and abs(P) <= stop_force * peak):
+                    on_step(recorder.result(walk.cutbacks))
+                if walk.lam >= end - 1e-12 * max(1.0, abs(end)) or (stop_force > 0.0 and walk.peak > 0.0
+                                                                    and abs(walk.P) <= stop_force * walk.peak):
                     break
-                constraint = self._next_constraint(constraint, iterations, softening, work, previous,
-                                                   firsts.get(type(constraint)))
-                firsts.setdefault(type(constraint), constraint.tau)
+                walk.constraint = self._next_constraint(constraint, iterations, softening, walk.work, walk.previous,
+                                                        walk.firsts.get(type(constraint)))
+                walk.firsts.setdefault(type(walk.constraint), walk.constraint.tau)
                 if recorder.due(step):
-                    checkpoint(step)
+                    walk.checkpoint(recorder, step)
             else:
                 if not finished:
-                    warnings.warn(f"path following stopped after max_steps = {ctrl.max_steps} steps at "
-                                  f"λ = {lam:.6g}, |P| = {abs(P):.4g} (peak {peak:.4g}), before reaching end or "
-                                  "stop_force", RuntimeWarning, stacklevel=2)
+                    warnings.warn(f"path following stopped after max_steps = {self.path.max_steps} steps at "
+                                  f"λ = {walk.lam:.6g}, |P| = {abs(walk.P):.4g} (peak {walk.peak:.4g}), before "
+                                  "reaching end or stop_force", RuntimeWarning, stacklevel=2)
             if recorder.writer is not None and not finished:
-                checkpoint(step, finished=True)                   # the end: a rerun returns at once
+                walk.checkpoint(recorder, step, finished=True)            # the end: a rerun returns at once
         finally:
             bar.close()
             recorder.close()
-        return recorder.result(cutbacks)
+        return recorder.result(walk.cutbacks)
+
+    def _path_step(self, walk: _Walk, step: int, end: float, recorder: RunRecorder):
+        """Step ``step`` from the converged point ``walk`` under ``walk.constraint`` (a load factor bounded by
+        ``end``): ``(iterations, residuals, released, softening)`` with ``walk`` advanced, or None with the
+        constraint changed (a load-controlled step failed or softened: :meth:`_limit_point`; nothing to release:
+        load control) or cut back (:meth:`_cut_back`), for the step to be tried again."""
+        constraint = walk.constraint
+        if isinstance(constraint, LoadFactorControl):
+            constraint.tau = min(constraint.tau, end - walk.lam) if constraint.tau > 0 else constraint.tau
+        try:
+            u, lam, response, f_int, extra_K, iterations, residuals = self.constrained_newton(
+                constraint, walk.u, walk.lam, walk.state, walk.f_int, step, (walk.response, walk.extra_K),
+                walk.previous)
+        except ConstraintSingular:
+            if isinstance(constraint, LoadFactorControl):
+                raise
+            walk.constraint = LoadFactorControl(walk.last_dlam)        # nothing to release: back to load control
+            return None
+        except NewtonFailure as failure:
+            if isinstance(constraint, LoadFactorControl) and walk.previous is not None:
+                walk.constraint = self._limit_point(walk.previous)          # load control fails: pass the peak
+            else:
+                self._cut_back(walk, failure, step, recorder)
+            return None
+        v, P = self.load_pair(u, lam, f_int)
+        released = 0.5 * (walk.P * (v - walk.v) - walk.v * (P - walk.P))
+        step_work = 0.5 * (walk.P + P) * (v - walk.v)
+        softening = self._softened(released, step_work)
+        if isinstance(constraint, LoadFactorControl) and walk.previous is not None and softening:
+            walk.constraint = self._limit_point(walk.previous)     # a load-controlled step that softened may have
+            return None                                           # jumped a snap-back: redo it path-following
+        if isinstance(constraint, LoadFactorControl):
+            walk.last_dlam = constraint.tau
+        walk.accept(u, lam, response, f_int, extra_K, v, P, step_work)
+        return iterations, residuals, released, softening
+
+    def _cut_back(self, walk: _Walk, failure: NewtonFailure, step: int, recorder: RunRecorder) -> None:
+        """Cut the failed step's target back by ``path.cutback``; below the smallest target (``path.min_ratio`` of
+        the constraint's first one, ``path.minimum`` for a load factor) raise :class:`StepFailed` with the result so
+        far and a checkpoint of the last converged step."""
+        ctrl, constraint = self.path, walk.constraint
+        walk.cutbacks += 1
+        constraint.tau *= ctrl.cutback
+        reference = walk.firsts.get(type(constraint), ctrl.initial)
+        if abs(constraint.tau) < max(ctrl.min_ratio * abs(reference), 1e-300) or (
+                isinstance(constraint, LoadFactorControl) and abs(constraint.tau) < ctrl.minimum):
+            result = recorder.result(walk.cutbacks)
+            raise StepFailed(
+                f"path following from λ={walk.lam:.6g} failed under {constraint.name} control: "
+                f"{failure.reason}{_better_method(constraint, failure.reason)}", load_factor=walk.lam, u=walk.u,
+                state=walk.state, reason=failure.reason, result=result,
+                checkpoint=walk.checkpoint(recorder, step - 1)) from failure
 
     def _softened(self, released: float, step_work: float) -> bool:
         """Whether a step softened the structure: it released more than ``path.switch`` times its work (a

@@ -76,6 +76,52 @@ def _pair(i, j):  # pragma: no cover - compiled
     return 6 - i - j if i != j else i
 
 
+@njit(cache=True, inline="always")
+def _sandwich(A, M, out):  # pragma: no cover - compiled
+    """The symmetric ``out`` = A M Aᵀ of 3 × 3 matrices, its upper triangle computed (b_e^tr = F C_p⁻¹ Fᵀ)."""
+    for i in range(3):
+        for j in range(i, 3):
+            total = 0.0
+            for a in range(3):
+                row = 0.0
+                for c in range(3):
+                    row += M[a, c] * A[j, c]
+                total += A[i, a] * row
+            out[i, j] = out[j, i] = total
+
+
+@njit(cache=True, inline="always")
+def _plastic_metric(Q, eps_e, F_inv, w, b, Cp_new):  # pragma: no cover - compiled
+    """The new plastic metric of a yielding point into ``Cp_new``: ε_e (Mandel) is coaxial with b_e^tr (eigenvectors
+    ``Q``), so its eigenvalues are w_a = (Qᵀ ε_e Q)_aa and C_p⁻¹ = F⁻¹ Q diag(e^{2w}) Qᵀ F⁻ᵀ (``w``, ``b``: scratch)."""
+    for a in range(3):
+        total = 0.0
+        for I in range(6):
+            p, q = _P[I], _Q[I]
+            weight = 1.0 if I < 3 else 2.0 / _W[I]       # both off-diagonal entries
+            total += weight * Q[p, a] * Q[q, a] * eps_e[I]
+        w[a] = math.exp(2.0 * total)
+    for i in range(3):
+        for j in range(3):
+            total = 0.0
+            for a in range(3):
+                total += Q[i, a] * w[a] * Q[j, a]
+            b[i, j] = total
+    _sandwich(F_inv, b, Cp_new)
+
+
+@njit(cache=True, inline="always")
+def _first_piola(tau, F_inv, P):  # pragma: no cover - compiled
+    """P = τ F⁻ᵀ as a row-major 9-vector ``P``, for the Kirchhoff stress ``tau`` (Mandel)."""
+    for i in range(3):
+        for L in range(3):
+            total = 0.0
+            for j in range(3):
+                t_ij = tau[i] if i == j else tau[_pair(i, j)] / _W[3]
+                total += t_ij * F_inv[L, j]
+            P[3 * i + L] = total
+
+
 @njit(cache=True, parallel=True)
 def log_strain_update(F, Cp_inv, alpha_p, dissipation, stiffness, two_G, r_p, K_H, plastic,
                       P, Cp_new, alpha_new, dissipation_new, eps_e, cauchy, J, F_inv, Q, lam,
@@ -104,15 +150,7 @@ def log_strain_update(F, Cp_inv, alpha_p, dissipation, stiffness, two_G, r_p, K_
             low = min(low, det)
             if not det > 0.0:
                 continue
-            for i in range(3):                                       # b_e^tr = F C_p⁻¹ Fᵀ
-                for j in range(i, 3):
-                    total = 0.0
-                    for a in range(3):
-                        row = 0.0
-                        for c in range(3):
-                            row += Cp_inv[k, a, c] * Fk[j, c]
-                        total += Fk[i, a] * row
-                    b[i, j] = b[j, i] = total
+            _sandwich(Fk, Cp_inv[k], b)                              # b_e^tr = F C_p⁻¹ Fᵀ
             eigh3(b, lp, Qp)
             for a in range(3):
                 lam[k, a] = lp[a]
@@ -158,40 +196,13 @@ def log_strain_update(F, Cp_inv, alpha_p, dissipation, stiffness, two_G, r_p, K_
                 tau[L] = total
                 cauchy[k, L] = total / det
             if plastic:
-                if gamma > 0.0:                 # ε_e is coaxial with b_e^tr: C_p⁻¹ = F⁻¹ Q diag(e^{2w}) Qᵀ F⁻ᵀ
-                    for a in range(3):
-                        total = 0.0
-                        for I in range(6):
-                            p, q = _P[I], _Q[I]
-                            weight = 1.0 if I < 3 else 2.0 / _W[I]       # both off-diagonal entries
-                            total += weight * Qp[p, a] * Qp[q, a] * eps_e[k, I]
-                        w[a] = math.exp(2.0 * total)
-                    for i in range(3):
-                        for j in range(3):
-                            total = 0.0
-                            for a in range(3):
-                                total += Qp[i, a] * w[a] * Qp[j, a]
-                            b[i, j] = total
-                    for i in range(3):
-                        for j in range(i, 3):
-                            total = 0.0
-                            for a in range(3):
-                                row = 0.0
-                                for c in range(3):
-                                    row += b[a, c] * Fi[j, c]
-                                total += Fi[i, a] * row
-                            Cp_new[k, i, j] = Cp_new[k, j, i] = total
+                if gamma > 0.0:
+                    _plastic_metric(Qp, eps_e[k], Fi, w, b, Cp_new[k])
                 else:                           # elastic: the plastic metric stays
                     for i in range(3):
                         for j in range(3):
                             Cp_new[k, i, j] = Cp_inv[k, i, j]
-            for i in range(3):                                       # P = τ F⁻ᵀ
-                for L in range(3):
-                    total = 0.0
-                    for j in range(3):
-                        t_ij = tau[i] if i == j else tau[_pair(i, j)] / _W[3]
-                        total += t_ij * Fi[L, j]
-                    P[k, 3 * i + L] = total
+            _first_piola(tau, Fi, P[k])                              # P = τ F⁻ᵀ
         smallest[blk] = low
     return smallest.min() if n_blocks else np.inf
 
