@@ -69,6 +69,28 @@ def test_onset_of_unloading_applies_paris_law_and_the_stress_update_of_eq_38():
     assert sim.fatigue_bonds.sigma[0, 0] == pytest.approx(bond_stresses(b.elastic_n, 0.0, d_new, P)[0][0], rel=1e-9)
 
 
+@pytest.mark.parametrize("jump", [0.2, 0.5])
+def test_the_jump_stops_before_the_cycle_in_which_a_bond_would_yield(jump):
+    """A pair held at 110 kPa (below the 120 kPa strength of D₀, above its fatigue criterion): its surface shrinks
+    onto the peak at D* = 1 − 110/120 (``peak_failure_damage``). A jump of ΔD_jump far beyond D* − D stops
+    before the cycle that would reach D*, at D < D* and with fewer cycles than the unlimited jump takes; the same
+    jump given directly to :func:`cycle_update` without a limit passes D*."""
+    from abrakit.fatigue.paris import cycle_update, peak_failure_damage
+
+    sim = bonded_pair()
+    opening = 110e3 / (P.kn * (1 - P.initial_damage))
+    sim.particles.v[1] = (opening / (100 * sim.dt), 0.0, 0.0)
+    sim.run(100)
+    sim.particles.v[1] = 0.0
+    b = sim.fatigue_bonds
+    assert not b.yielded[0]
+    failure = peak_failure_damage(b.damage, b.peak[0], b.peak[1], P)[0]
+    unlimited, increment, *_ = cycle_update(b.damage, b.peak, b.low, P, width=b.width, jump=jump)
+    assert b.damage[0] + increment[0] > failure                   # the paper's jump would pass it
+    count = b.onset_of_unloading(jump=jump)
+    assert 1 <= count < unlimited and b.damage[0] < failure
+
+
 def test_a_bond_that_yields_in_a_cycle_gets_no_fatigue_damage():
     """E = 0 in Eq. (17): a cycle that reaches the yield surface lumps its fatigue into the plastic damage."""
     sim = bonded_pair()

@@ -28,7 +28,7 @@ from abrakit.dem.contact_laws import _cross, _dot, _turn_into_plane
 from abrakit.dem.kernels import HAVE_NUMBA, fatigue_bond_finish, fatigue_bond_trial
 from abrakit.fatigue._return_kernel import plastic_return_bonds
 from abrakit.fatigue.bond_law import FAILURE_DAMAGE, MAX_HALVINGS, BondParameters, plastic_return
-from abrakit.fatigue.paris import cycle_update
+from abrakit.fatigue.paris import cycle_update, peak_failure_damage
 from abrakit.validation import check_option, check_positive
 
 BROKEN = FAILURE_DAMAGE
@@ -177,8 +177,10 @@ class FatigueBonds:
         displacement increment of the sampled cycle in each skipped cycle (damage by Eq. 22, elastic displacements
         lowered like the fatigue displacements) and counts its damage rate in N_jump (decision "ratcheting in the
         cycle jump"). With ``hold_while_yielding`` no jump follows a cycle in which any bond yielded (a steadier but,
-        where bonds ratchet every cycle, a jump-free run). Returns the number of cycles this update stands for (1
-        without a jump); the stress record restarts from the current stresses."""
+        where bonds ratchet every cycle, a jump-free run). A jump stops before the cycle in which a bond's damage
+        would shrink its surface onto its peak stress (:meth:`_failure_limit`): that cycle, where the bond yields, is
+        simulated. Returns the number of cycles this update stands for (1 without a jump); the stress record
+        restarts from the current stresses."""
         check_option("plasticity", plasticity, ("frozen", "extrapolated"))
         count = 1
         if len(self):
@@ -187,7 +189,7 @@ class FatigueBonds:
             ratchet = self.ratchet if plasticity == "extrapolated" else None
             count, increment, du_n, du_s, skipped = cycle_update(
                 self.damage, self.peak, self.low, self.params, width=self.width, eligible=~self.yielded, jump=jump,
-                max_cycles=max_cycles, ratchet=ratchet)
+                max_cycles=max_cycles, ratchet=ratchet, limit=None if jump is None else self._failure_limit())
             du_s = np.abs(du_s)                             # along e_s: the shear stress here is a magnitude
             size_s = np.sqrt(_dot(self.elastic_s, self.elastic_s))
             self.elastic_n = self.elastic_n - du_n - skipped[0]
@@ -198,6 +200,15 @@ class FatigueBonds:
             self.plastic = self.plastic + skipped
             self.restart_cycle()
         return count
+
+    def _failure_limit(self) -> np.ndarray:
+        """The damage each bond's jump must stop short of (:func:`~abrakit.fatigue.paris.cycle_jump`'s ``limit``):
+        the damage at which its surface shrinks onto its recorded peak (σ_n, σ_s) (:func:`~abrakit.fatigue.paris.
+        peak_failure_damage`), so that the cycle in which a bond would yield is simulated, not jumped over; none
+        (1) for a bond that yielded in the sampled cycle or whose componentwise peak already lies on or outside its
+        surface (it is not fatigued, or the extremes of σ_n and σ_s came at different instants)."""
+        failure = peak_failure_damage(self.damage, self.peak[0], self.peak[1], self.params)
+        return np.where(self.yielded | (failure <= self.damage), 1.0, failure)
 
     def restart_cycle(self) -> None:
         """Forget the stress extremes and the plastic flow (hence the yield flags) recorded so far (e.g. after a
