@@ -7,7 +7,7 @@ from abrakit.damage.localisation import E_BAR, bar_mesh, bar_models, cross_secti
 from abrakit.damage.metrics import band_width, mesh_study, path_work, specimen_metrics, work
 from abrakit.damage.model_one_fe import ModelISolver
 from abrakit.damage.model_one_path import DamageControl, ModelIPathFollowingSolver
-from abrakit.damage.model_two_fe import ModelTwoResult, rate_limit_work, run_model_two
+from abrakit.damage.model_two_fe import ModelTwoResult, default_material, rate_limit_work, run_model_two
 from abrakit.damage.runs import REGULARISATION, SpecimenRun, run_specimen
 from abrakit.damage.specimens import SPECIMENS, DamageSpecimen, plot_field, specimen
 
@@ -17,7 +17,7 @@ __all__ = [
     # Model I: the element Laplacian and its solvers (Ch. 7.1)
     "element_laplacian", "face_neighbours", "ModelISolver", "ModelIPathFollowingSolver", "DamageControl",
     # Model II (Ch. 7.2)
-    "run_model_two", "ModelTwoResult", "rate_limit_work",
+    "default_material", "run_model_two", "ModelTwoResult", "rate_limit_work",
     # the three specimens and the comparison of the models (Ch. 7.3)
     "specimen", "SPECIMENS", "DamageSpecimen", "plot_field", "run_specimen", "SpecimenRun", "REGULARISATION",
     "specimen_metrics", "mesh_study", "work", "path_work", "band_width",
