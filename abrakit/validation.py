@@ -16,8 +16,8 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 __all__ = ["all_finite", "broadcast_shapes", "check_callable", "check_finite", "check_indices", "check_instance",
-           "check_number_fields", "check_option", "check_poisson", "check_positive", "check_range", "check_shape",
-           "number_arguments"]
+           "check_integer", "check_number_fields", "check_option", "check_poisson", "check_positive", "check_range",
+           "check_shape", "number_arguments"]
 
 
 def _describe(low, high, low_open, high_open) -> str:
@@ -68,6 +68,23 @@ def check_range(name: str, value, low=None, high=None, *, low_open: bool = False
             f"{name} must lie in {_describe(low, high, low_open, high_open)}, got {shown!r}"
         )
     return float(arr) if arr.ndim == 0 else arr
+
+
+def check_integer(name: str, value, low: int | None = None, high: int | None = None) -> int:
+    """Return ``value`` as an ``int`` if it is a whole number (an integer, or a float without a fraction) in
+    ``[low, high]`` (``None``: unbounded); else ``TypeError`` (not a number) or ``ValueError`` (NaN, infinity, a
+    fraction, out of range) naming the parameter::
+
+        steps = check_integer("steps", steps, 1)
+    """
+    allowed = f"an integer in [{'-inf' if low is None else low}, {'inf' if high is None else high}]"
+    if isinstance(value, bool) or not isinstance(value, int | float | np.integer | np.floating):
+        raise TypeError(f"{name} must be {allowed}, got {value!r}")
+    if not np.isfinite(value) or value != int(value):
+        raise ValueError(f"{name} must be {allowed}, got {value!r}")
+    if (low is not None and value < low) or (high is not None and value > high):
+        raise ValueError(f"{name} must be {allowed}, got {value!r}")
+    return int(value)
 
 
 def check_positive(name: str, value, *, allow_zero: bool = False):

@@ -456,3 +456,145 @@ def test_explicit_step_overshoots_beyond_the_relaxation_time_implicit_never():
             assert PLAST.yield_function(eps, explicit, VISCO_PLAST) == pytest.approx((1 - q) * phi0)
         else:  # so far that the stress reverses sign under tensile strain
             assert PLAST.stress(eps, explicit) < 0
+
+
+# ------------------------------------------------------------------ bad input is refused at the door, by name
+
+NAN, INF = float("nan"), float("inf")
+T4 = np.linspace(0.0, 1.0, 4)
+E4 = np.array([0.0, 1e-3, 2e-3, 3e-3])
+
+
+def _with(array, index, value):
+    bad = np.array(array, dtype=float)
+    bad[index] = value
+    return bad
+
+
+def _psi(e, lam):
+    return 0.5 * 1e3 * (e - lam) ** 2
+
+
+def _study(**kw):
+    call = {"model": PLAST, "dissipation": VISCO_PLAST, "strain_fn": lambda t: cyclic(2e-3, t), "t_end": 1.0,
+            "n_steps": (4, 8), "schemes": ("implicit",)} | kw
+    return ev.convergence_study(**call)
+
+
+REFUSALS = {
+    # the states built by hand
+    "PlasticState eps_p nan": (lambda: ev.PlasticState(_with(np.zeros(3), 0, NAN), np.zeros(3)), "eps_p"),
+    "PlasticState eps_p inf": (lambda: ev.PlasticState(_with(np.zeros(3), 1, INF), np.zeros(3)), "eps_p"),
+    "PlasticState alpha nan": (lambda: ev.PlasticState(np.zeros(3), _with(np.zeros(3), 0, NAN)), "alpha"),
+    "PlasticState alpha inf": (lambda: ev.PlasticState(np.zeros(3), _with(np.zeros(3), 2, INF)), "alpha"),
+    "PlasticState alpha < 0": (lambda: ev.PlasticState(0.0, -1e-3), "alpha"),
+    "PlasticState alpha None": (lambda: ev.PlasticState(0.0, None), "alpha"),
+    "PlasticState eps_p str": (lambda: ev.PlasticState("abc", 0.0), "eps_p"),
+    "PlasticState shapes": (lambda: ev.PlasticState(np.zeros(3), np.zeros(2)), "eps_p"),
+    "DamageState d nan": (lambda: ev.DamageState(np.array([0.1, NAN])), "d"),
+    "DamageState d inf": (lambda: ev.DamageState(INF), "d"),
+    "DamageState d < 0": (lambda: ev.DamageState(-0.1), "d"),
+    # the explicit update, Eq. (4.53)
+    "rdu lam_m inf": (lambda: ev.rate_dependent_update(INF, 1.0, 0.1, VISCO_DAMAGE), "lam_m"),
+    "rdu lam_m nan entry": (lambda: ev.rate_dependent_update([0.0, NAN], 1.0, 0.1, VISCO_DAMAGE), "lam_m"),
+    "rdu p inf": (lambda: ev.rate_dependent_update(0.0, INF, 0.1, VISCO_DAMAGE), "p"),
+    "rdu p -inf entry": (lambda: ev.rate_dependent_update(0.0, [1.0, -INF], 0.1, VISCO_DAMAGE), "p"),
+    "rdu dt inf": (lambda: ev.rate_dependent_update(0.0, 1.0, INF, VISCO_DAMAGE), "dt"),
+    "rdu shapes": (lambda: ev.rate_dependent_update(np.zeros(2), np.zeros(3), 0.1, VISCO_DAMAGE), "lam_m"),
+    "rdu dissipation None": (lambda: ev.rate_dependent_update(0.0, 1.0, 0.1, None), "dissipation"),
+    # the numerical variational update
+    "var free_energy None": (lambda: ev.variational_update(None, VISCO_DAMAGE, 0.0, 0.0, 1.0), "free_energy"),
+    "var dissipation None": (lambda: ev.variational_update(_psi, None, 0.0, 0.0, 1.0), "dissipation"),
+    "var eps inf": (lambda: ev.variational_update(_psi, VISCO_DAMAGE, INF, 0.0, 1.0), "eps"),
+    "var lam_m nan": (lambda: ev.variational_update(_psi, VISCO_DAMAGE, 0.0, NAN, 1.0), "lam_m"),
+    "var dt inf": (lambda: ev.variational_update(_psi, VISCO_DAMAGE, 0.0, 0.0, INF), "dt"),
+    "var width inf": (lambda: ev.variational_update(_psi, VISCO_DAMAGE, 0.0, 0.0, 1.0, width=INF), "width"),
+    "var width 0": (lambda: ev.variational_update(_psi, VISCO_DAMAGE, 0.0, 0.0, 1.0, width=0.0), "width"),
+    "var grid nan": (lambda: ev.variational_update(_psi, VISCO_DAMAGE, 0.0, 0.0, 1.0, grid=NAN), "grid"),
+    "var grid 3": (lambda: ev.variational_update(_psi, VISCO_DAMAGE, 0.0, 0.0, 1.0, grid=3), "grid"),
+    "var max_expansions 0": (lambda: ev.variational_update(_psi, VISCO_DAMAGE, 0.0, 0.0, 1.0, max_expansions=0),
+                             "max_expansions"),
+    "var bounds None": (lambda: ev.variational_update(_psi, VISCO_DAMAGE, 0.0, 0.0, 1.0, bounds=None), "bounds"),
+    "var bounds nan": (lambda: ev.variational_update(_psi, VISCO_DAMAGE, 0.0, 0.0, 1.0, bounds=(NAN, 1.0)),
+                       "bounds"),
+    "var bounds 3": (lambda: ev.variational_update(_psi, VISCO_DAMAGE, 0.0, 0.0, 1.0, bounds=(0, 1, 2)), "bounds"),
+    "var args nan": (lambda: ev.variational_update(lambda e, l, k: k * l**2, VISCO_DAMAGE, 0.0, 0.0, 1.0,
+                                                   args=(NAN,)), "args"),
+    "var shapes": (lambda: ev.variational_update(_psi, VISCO_DAMAGE, np.zeros(2), np.zeros(3), 1.0), "eps"),
+    # the driver
+    "simulate model None": (lambda: ev.simulate(None, E4, T4, VISCO_PLAST), "model"),
+    "simulate strain nan": (lambda: ev.simulate(PLAST, _with(E4, 2, NAN), T4, VISCO_PLAST), "strain"),
+    "simulate strain inf": (lambda: ev.simulate(PLAST, _with(E4, 0, INF), T4, VISCO_PLAST), "strain"),
+    "simulate strain str": (lambda: ev.simulate(PLAST, "abc", T4, VISCO_PLAST), "strain"),
+    "simulate strain shape": (lambda: ev.simulate(PLAST, E4[:3], T4, VISCO_PLAST), "strain"),
+    "simulate time nan": (lambda: ev.simulate(PLAST, E4, _with(T4, 1, NAN), VISCO_PLAST), "time"),
+    "simulate time inf": (lambda: ev.simulate(PLAST, E4, _with(T4, 3, INF), VISCO_PLAST), "time"),
+    "simulate time None": (lambda: ev.simulate(PLAST, E4, None, VISCO_PLAST), "time"),
+    "simulate time 2D": (lambda: ev.simulate(PLAST, E4, T4[None], VISCO_PLAST), "time"),
+    "simulate dissipation None": (lambda: ev.simulate(PLAST, E4, T4, None), "dissipation"),
+    "simulate scheme": (lambda: ev.simulate(PLAST, E4[:1], T4[:1], VISCO_PLAST, "forward"), "scheme"),
+    "simulate option": (lambda: ev.simulate(PLAST, E4, T4, VISCO_PLAST, "implicit", grid=11), "grid"),
+    "simulate state0 kind": (lambda: ev.simulate(PLAST, E4, T4, VISCO_PLAST, state0=DAMAGE.initial_state()),
+                             "state0"),
+    "simulate state0 nan": (lambda: ev.simulate(PLAST, E4, T4, VISCO_PLAST,
+                                                state0=ev.PlasticState._make((NAN, 0.0))), "state0.eps_p"),
+    "simulate state0 shape": (lambda: ev.simulate(PLAST, E4, T4, VISCO_PLAST,
+                                                  state0=ev.PlasticState(np.zeros(2), 0.0)), "state0.eps_p"),
+    # the reference solution and the convergence study
+    "reference model None": (lambda: ev.reference_solution(None, np.sin, T4, VISCO_PLAST), "model"),
+    "reference strain_fn None": (lambda: ev.reference_solution(PLAST, None, T4, VISCO_PLAST), "strain_fn"),
+    "reference dissipation None": (lambda: ev.reference_solution(PLAST, np.sin, T4, None), "dissipation"),
+    "reference time inf": (lambda: ev.reference_solution(PLAST, np.sin, _with(T4, 3, INF), VISCO_PLAST), "time"),
+    "reference atol inf": (lambda: ev.reference_solution(PLAST, np.sin, T4, VISCO_PLAST, atol=INF), "atol"),
+    "order dt inf": (lambda: ev.observed_order([0.1, 0.05, INF], [1.0, 0.5, 0.2]), "dt"),
+    "order dt 0": (lambda: ev.observed_order([0.1, 0.05, 0.0], [1.0, 0.5, 0.2]), "dt"),
+    "order error 0": (lambda: ev.observed_order([0.1, 0.05, 0.02], [1.0, 0.5, 0.0]), "error"),
+    "order error inf": (lambda: ev.observed_order([0.1, 0.05, 0.02], [1.0, INF, 0.2]), "error"),
+    "order shapes": (lambda: ev.observed_order([0.1, 0.05, 0.02], [1.0, 0.5]), "dt and error"),
+    "order last 1": (lambda: ev.observed_order([0.1, 0.05, 0.02], [1.0, 0.5, 0.2], last=1), "last"),
+    "order last nan": (lambda: ev.observed_order([0.1, 0.05, 0.02], [1.0, 0.5, 0.2], last=NAN), "last"),
+    "order one dt": (lambda: ev.observed_order([0.1, 0.1, 0.1], [1.0, 0.5, 0.2]), "dt"),
+    "study model None": (lambda: _study(model=None), "model"),
+    "study dissipation None": (lambda: _study(dissipation=None), "dissipation"),
+    "study strain_fn None": (lambda: _study(strain_fn=None), "strain_fn"),
+    "study t_end inf": (lambda: _study(t_end=INF), "t_end"),
+    "study n_steps nan": (lambda: _study(n_steps=(4, NAN)), "n_steps"),
+    "study n_steps None": (lambda: _study(n_steps=None), "n_steps"),
+    "study n_steps one": (lambda: _study(n_steps=(8,)), "n_steps"),
+    "study schemes None": (lambda: _study(schemes=None), "schemes"),
+    "study schemes str": (lambda: _study(schemes="implicit"), "schemes"),
+    "study scheme": (lambda: _study(schemes=("forward",)), "scheme"),
+    "study repeats 0": (lambda: _study(repeats=0), "repeats"),
+    "study reference_kw": (lambda: _study(reference_kw=1e-9), "reference_kw"),
+    "study on_result": (lambda: _study(on_result=3), "on_result"),
+    "study elastic path": (lambda: _study(strain_fn=lambda t: 0.0), "strain_fn"),
+}
+
+
+@pytest.mark.parametrize("case", list(REFUSALS))
+def test_bad_input_is_refused_naming_the_parameter(case):
+    call, name = REFUSALS[case]
+    with pytest.raises((ValueError, TypeError), match=name.replace(".", r"\.")):
+        call()
+
+
+def test_states_built_by_hand_keep_their_entries_and_the_models_build_theirs_unchecked():
+    eps_p, alpha = np.array([-1e-3, 2e-3]), np.array([0.0, 3e-3])
+    state = ev.PlasticState(eps_p, alpha)
+    assert state.eps_p is eps_p and state.alpha is alpha and state == ev.PlasticState(eps_p=eps_p, alpha=alpha)
+    assert state._replace(alpha=0.0).alpha == 0.0 and ev.PlasticState(0.0, 0.0)._fields == ("eps_p", "alpha")
+    assert ev.DamageState(0.0).d == 0.0 and ev.DamageState([0.2, 0.5]).d == [0.2, 0.5]
+    assert type(PLAST.initial_state((2,))) is ev.PlasticState and type(DAMAGE.initial_state()) is ev.DamageState
+    rate = PLAST.state_rate(-3e-3, PLAST.initial_state(), VISCO_PLAST)  # a rate of εp may be negative
+    assert type(rate) is ev.PlasticState and rate.eps_p < 0 < rate.alpha
+
+
+@pytest.mark.parametrize("scheme", [*ev.SCHEMES, "variational"])
+def test_guarded_driver_gives_the_same_history_from_a_checked_initial_state(scheme):
+    strain = 3e-3 * np.sin(2 * np.pi * T4)
+    fresh = ev.simulate(PLAST, strain, T4, VISCO_PLAST, scheme)
+    given_state0 = ev.simulate(PLAST, list(strain), list(T4), VISCO_PLAST, scheme, state0=ev.PlasticState(0.0, 0.0))
+    for key, value in fresh.items():
+        assert np.array_equal(value, given_state0[key]), key
+    assert np.all(np.isfinite(fresh["stress"])) and np.max(fresh["alpha"]) > 0
+    assert ev.simulate(PLAST, strain[:1], T4[:1], VISCO_PLAST, scheme)["eps_p"].shape == (1,)

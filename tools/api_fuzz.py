@@ -170,6 +170,7 @@ def _hand_calls() -> dict[str, list[dict]]:
         "abrakit.evolution.PlasticState": [{"eps_p": np.zeros(3), "alpha": np.zeros(3)}],
         "abrakit.damage.localisation.cross_section": [
             {"mesh": bar, "area": 100.0, "depth": 0.05, "width": 1.0, "notch": 0.02}],
+        "abrakit.damage.model_two_fe.default_material": [{"alpha": 0.05}],
     }
     # ---- built objects: meshes, bases, materials, a small packing ------------------------------------------------
     from abrakit.dem.clumps import dyad
@@ -278,6 +279,98 @@ def _hand_calls() -> dict[str, list[dict]]:
         "abrakit.fatigue.single_bond.monotonic_test": [
             {"p": BondParameters(), "mode": "tension", "increment": 2e-6, "until_damage": 0.9, "max_steps": 2000,
              "test": None}],
+        **_study_calls(),
+    }
+
+
+def _square_case(params: dict) -> dict:
+    """A sweep case for the hand calls of :func:`abrakit.experiments.run_sweep`: the square of ``x``."""
+    return {"square": params["x"] ** 2}
+
+
+def _study_calls() -> dict[str, list[dict]]:
+    """Valid calls of the face's studies and of the readouts of their results, each on a specimen small enough to
+    run in a fraction of a second (a few elements, a few particles, a few steps)."""
+    import math
+    import tempfile
+
+    import matplotlib.pyplot  # noqa: F401 - imported here, plot_field's valid call times the plot, not the import
+
+    from abrakit.damage.localisation import bar_models
+    from abrakit.damage.specimens import double_notched, sharp_notch
+    from abrakit.dem import Particles, Periodic, Simulation, Walls
+    from abrakit.dem.fatigue_specimen import bonded_bar
+    from abrakit.evolution import Plasticity1D, elasto_viscoplastic
+    from abrakit.experiments.bending import BeamSpec, four_point_beam
+    from abrakit.experiments.specimen import SpecimenSpec
+    from abrakit.experiments.sweeps import run_sweep
+    from abrakit.fatigue import BondParameters
+    from abrakit.scratch.run import run_scratch
+    from abrakit.scratch.scene import ScratchScene, SpecimenMesh
+
+    radius, kn = 0.01, 1e6                          # 27 spheres on a simple cubic lattice in a periodic cell
+    g = (np.arange(3) + 0.5) * 2 * radius
+    x = np.stack(np.meshgrid(g, g, g, indexing="ij"), -1).reshape(-1, 3)
+    cell = Simulation(Particles.spheres(x, radius, kn=kn, friction=0.5), periodic=Periodic([6 * radius] * 3),
+                      local_damping=0.7)
+    cell.strain_cell(-1e-3)
+    cell.step()
+    r, squeeze = 1e-3, 1e-6                         # 64 touching spheres in a box whose walls touch them
+    x = r + np.stack(np.meshgrid(*[np.arange(4)] * 3, indexing="ij"), -1).reshape(-1, 3) * 2 * r * (1 - squeeze)
+    lattice = Simulation(Particles.spheres(x, r, kn=kn, friction=0.5), track_energy=False,
+                         walls=Walls.box(np.full(3, r * squeeze), x.max(axis=0) + r * (1 - squeeze)))
+    lattice.run(1, progress=False)
+    bar, _, loaded = bonded_bar(BondParameters(), columns=3, rows=1)
+    sweeps = Path(tempfile.mkdtemp(prefix="abrakit_fuzz_sweep_"))
+    run_sweep(_square_case, [{"x": 1}, {"x": 2}], sweeps, backend="serial")
+    strip, notch = double_notched(50), sharp_notch(100)
+    u = np.linspace(0.0, 1.0, 11)
+    scene = ScratchScene(depth=0.0008, slide=0.004, unload=False, size=(0.06, 0.015, 0.08), indent_steps=1,
+                         mesh=SpecimenMesh(h=0.004, h_z=0.005, h_y=0.0015, growth=1.8, width=1.6),
+                         kinematics="small", bbar=False, material="elastic")
+    scratched = run_scratch(scene, vtu_every=0)
+    return {
+        "abrakit.damage.localisation.localisation_study": [
+            {"n_elements": (3, 5), "models": {"local": bar_models()["local"]}, "step": 0.01}],
+        "abrakit.damage.metrics.mesh_study": [
+            {"curves": {"coarse": (u, 1.1 * np.sin(np.pi * u)), "fine": (u, np.sin(np.pi * u))}, "fields": None,
+             "threshold": 0.5, "length": None, "mirror": 1.0}],
+        "abrakit.damage.metrics.specimen_metrics": [
+            {"specimen": notch, "u": np.array([0.0, 1.0, 2.0, 3.0]), "F": np.array([0.0, 10.0, 6.0, 0.0]),
+             "stiffness_loss": np.linspace(0.0, 1.0, notch.elements), "threshold": 0.5}],
+        "abrakit.damage.model_two_fe.run_model_two": [{"specimen": strip, "alpha": 0.05, "steps": 3, "end": 0.1}],
+        "abrakit.damage.runs.run_specimen": [
+            {"specimen": strip, "model": "I", "parameter": 1.0, "step": 0.05, "stop_fraction": 0.5}],
+        "abrakit.damage.specimens.plot_field": [
+            {"specimen": notch, "values": np.linspace(0.0, 1.0, notch.elements), "colorbar": False}],
+        "abrakit.dem.fatigue_specimen.cyclic_bar": [
+            {"sim": bar, "loaded": loaded, "stress_min": 20e3, "stress_max": 60e3, "target_damage": 0.4,
+             "ramp_steps": 20, "max_cycles": 2}],
+        "abrakit.dem.network.network_stiffness": [{"sim": cell}],
+        "abrakit.dem.periodic.elastic_probe": [{"sim": cell, "strain": 1e-6, "max_steps": 200, "tol": 1e-6}],
+        "abrakit.evolution.convergence_study": [
+            {"model": Plasticity1D(E=1000.0, K=100.0), "dissipation": elasto_viscoplastic(10.0, 1.0),
+             "strain_fn": lambda t: 2e-2 * np.sin(t), "t_end": 1.0, "n_steps": (4, 8), "schemes": ("implicit",)}],
+        "abrakit.experiments.bending.monotonic_bending": [
+            {"beam": four_point_beam(BeamSpec(radius=5e-3)), "speed": 5e-4, "max_deflection": 1e-8,
+             "record_every": 50, "max_steps": 200}],
+        "abrakit.experiments.closed_form_checks.contact_statistics": [{"sim": lattice, "margin": 0.5}],
+        "abrakit.experiments.contacting.contact_census": [{"sim": lattice, "wall_zone": 0.0, "tol": 1e-9}],
+        "abrakit.experiments.cyclic.cyclic_bending": [
+            {"beam": four_point_beam(BeamSpec(radius=5e-3), control="force"), "load_max": 10.0,
+             "steps_per_cycle": 50, "max_cycles": 1, "reference_cycles": 1, "max_simulated": 1,
+             "quasi_static_check": False}],
+        "abrakit.experiments.specimen.genesis": [
+            {"spec": SpecimenSpec(n_particles=20, seed=2, aspect=1.0), "cache": False, "max_steps": 300}],
+        "abrakit.experiments.sweeps.load_sweep": [{"results_dir": sweeps}],
+        "abrakit.experiments.sweeps.run_sweep": [
+            {"case_fn": _square_case, "params_list": [{"x": 1}, {"x": 2}], "results_dir": sweeps,
+             "backend": "serial", "n_jobs": 1}],
+        "abrakit.scratch.readouts.groove_balance": [{"result": scratched, "z": scratched.scene.z_section}],
+        "abrakit.scratch.run.run_scratch": [{"scene": scene, "vtu_every": 0, "checkpoint_every": 10}],
+        "abrakit.scratch.run_hertz.hertz_indentation": [
+            {"h": 2 * math.sqrt(0.05 * 5e-4), "penalty": 3.0, "R": 0.05, "d": 5e-4, "steps": 1, "extent": 8.0,
+             "growth": 1.8}],
     }
 
 
@@ -465,9 +558,10 @@ def load_catalogue(path: Path = CATALOGUE) -> dict:
     for name, kept in stored.items():        # one pickle per call: a call whose classes moved away is dropped
         for data in kept:
             try:
-                calls.setdefault(name, []).append(pickle.loads(data))
+                kwargs = pickle.loads(data)
             except (ImportError, AttributeError):
                 continue
+            calls.setdefault(name, []).append(kwargs)
     for name, kwargs_list in _hand_calls().items():
         HAND_NAMES.add(name)
         calls.setdefault(name, []).extend(kwargs_list)

@@ -195,13 +195,22 @@ class BandWidth:
     elements: int
 
 
-def _check_field(mesh, values):
+def _check_field(mesh, values, name: str = "values"):
     if mesh.p.shape[0] != 2:
         raise ValueError("damage-field metrics need a 2D mesh (use the specimen's plane_mesh)")
     values = np.asarray(values, dtype=float)
     if values.shape != (mesh.t.shape[1],):
-        raise ValueError(f"values must have one entry per element ({mesh.t.shape[1]}), got shape {values.shape}")
+        raise ValueError(f"{name} must have one entry per element ({mesh.t.shape[1]}), got shape {values.shape}")
     return values
+
+
+def _check_band(threshold, length, mirror) -> None:
+    """The band's ``threshold`` (a level of a non-negative field, >= 0), its nominal ``length`` (> 0, or None) and
+    ``mirror`` (> 0: 2 for a half model)."""
+    check_range("threshold", threshold, 0.0, None)
+    if length is not None:
+        check_range("length", length, 0.0, None, low_open=True)
+    check_range("mirror", mirror, 0.0, None, low_open=True)
 
 
 def band_width(mesh, values, threshold: float = 0.5, *, length: float | None = None, mirror: float = 1.0,
@@ -213,6 +222,7 @@ def band_width(mesh, values, threshold: float = 0.5, *, length: float | None = N
     gives width 0 (and angle NaN: an empty band has no axis). ``values``: a damage field, non-negative.
     """
     values = check_range("values", _check_field(mesh, values), 0.0, None)
+    _check_band(threshold, length, mirror)
     centre = mesh.p[:, mesh.t].mean(axis=1)
     damaged = values >= threshold
     if within is not None:
@@ -319,6 +329,7 @@ def mesh_study(curves: dict, fields: dict | None = None, *, reference=None, thre
     peak force, its error against the reference, the curve distance, the work and the band width, and overall
     the peak-force spread, the largest curve distance, the energy spread and the band-width spread.
     """
+    _check_band(threshold, length, mirror)
     labels = list(curves)
     reference = labels[-1] if reference is None else reference
     u_ref, F_ref = curves[reference]
@@ -357,6 +368,8 @@ def specimen_metrics(specimen, u, F, stiffness_loss, *, threshold: float = 0.5) 
     over that at 0.9).
     """
     mesh = specimen.plane_mesh
+    _check_field(mesh, check_range("stiffness_loss", stiffness_loss, 0.0, None), "stiffness_loss")
+    _check_band(threshold, None, 1.0)
     F_max, u_peak = peak(u, F)
     softening = softening_displacement(u, F, 0.5)
     band = band_width(mesh, stiffness_loss, threshold, length=specimen.band_length, mirror=specimen.band_mirror)

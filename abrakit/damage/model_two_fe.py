@@ -456,6 +456,7 @@ def run_model_two(specimen, alpha: float = 0.05, *, material: ModelIIDamage | No
         a finished run's rerun returns its result at once. Displacement control only (``path=None``).
     """
     material = default_material(alpha) if material is None else material
+    check_positive("end", end)
     if stop_fraction is not None:
         check_range("stop_fraction", stop_fraction, 0.0, 1.0, low_open=True, high_open=True)
     vtu_every = int(check_range("vtu_every", vtu_every, 0, None))

@@ -16,7 +16,7 @@ import numpy as np
 from ..fem import PathControl, PathFollowingSolver, StepControl
 from ..fem.solver import StepFailed
 from ..materials import TABLE_7_1, ModelIDamage
-from ..validation import check_option, check_positive
+from ..validation import check_option, check_positive, check_range
 from .crack_band import specimen_material
 from .metrics import element_areas
 from .model_one_fe import ModelISolver
@@ -93,6 +93,10 @@ def run_specimen(specimen: DamageSpecimen, model: str, parameter: float, *, step
     20 000 opening steps took the force only to 90 % of the peak.)
     """
     check_option("model", model, MODELS)
+    check_positive("parameter", parameter, allow_zero=model == "I")     # beta >= 0; alpha, G_Ic > 0
+    check_positive("step", step)
+    if stop_fraction is not None:
+        check_range("stop_fraction", stop_fraction, 0.0, 1.0, low_open=True, high_open=True)
     if material_options and model != "anisotropic":
         raise ValueError(f"material_options are for model='anisotropic', got model={model!r}")
     if model == "anisotropic":
@@ -107,7 +111,7 @@ def run_specimen(specimen: DamageSpecimen, model: str, parameter: float, *, step
         raise ValueError("give one of gauge (heights), opening (DOF sets) or damage_step, not several")
     if gauge is not None:
         opening = specimen.gauge(*gauge)
-    steps = max(1, int(round(specimen.displacement / check_positive("step", step))))
+    steps = max(1, int(round(specimen.displacement / step)))
     h = 1.0 / steps
     if model == "II":
         res = run_model_two(specimen, parameter, steps=steps, stop_fraction=stop_fraction, path=path,

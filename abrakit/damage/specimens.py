@@ -53,7 +53,7 @@ import skfem
 
 from ..fem import Dirichlet, meshes, vector_basis
 from ..fem.boundary import node_row_dofs
-from ..validation import check_option, check_positive, check_range, number_arguments
+from ..validation import check_finite, check_option, check_positive, check_range, number_arguments
 
 #: Element targets of the named mesh levels (the seed: 900-1010, 4033-4080, 8014-8477 elements).
 LEVELS = {"coarse": 1000, "medium": 4000, "fine": 8000}
@@ -361,7 +361,7 @@ def plot_field(specimen: DamageSpecimen, values, ax=None, *, whole: bool = True,
     from matplotlib.collections import PolyCollection
 
     mesh = specimen.plane_mesh
-    values = np.asarray(values, dtype=float)
+    values = np.asarray(check_finite("values", values), dtype=float)
     if values.shape != (mesh.t.shape[1],):
         raise ValueError(f"values must have one entry per element ({mesh.t.shape[1]}), got shape {values.shape}")
     ax = ax if ax is not None else plt.gca()

@@ -24,7 +24,7 @@ from numpy.typing import ArrayLike
 
 from abrakit.dem.integrate import _local_damping
 from abrakit.dem.state import Particles
-from abrakit.validation import check_positive, number_arguments
+from abrakit.validation import check_finite, check_positive, number_arguments
 
 
 def dyad(radius: float, spacing: float | None = None):
@@ -63,7 +63,7 @@ def clump_particles(centres, template, density=2650.0, *, rng=None, **particle_k
     Returns :class:`Particles` whose ``clump`` array numbers the clumps 0..C−1; pass them to a ``Simulation``.
     """
     offsets, radii = template
-    centres = np.atleast_2d(np.asarray(centres, float))
+    centres = np.atleast_2d(np.asarray(check_finite("centres", centres), float))
     c, k = len(centres), len(radii)
     R = np.broadcast_to(np.eye(3), (c, 3, 3))
     if rng is not None:

@@ -21,7 +21,7 @@ from abrakit.dem.simulation import Simulation
 from abrakit.dem.state import Particles
 from abrakit.fatigue.bond_law import BondParameters
 from abrakit.io import RunRecord
-from abrakit.validation import check_finite, check_positive, check_range, number_arguments
+from abrakit.validation import check_finite, check_integer, check_positive, check_range, number_arguments
 
 
 @number_arguments
@@ -59,10 +59,14 @@ def cyclic_bar(sim: Simulation, loaded, stress_min: float, stress_max: float, *,
     the extension of the loaded end at the peak, plus ``simulated_cycles``, ``steps`` and ``seconds``. With
     ``csv`` every row is written as soon as it is computed. Stops early (``"stopped"``: the reason) when a bond
     breaks, at ``max_cycles`` or after ``time_limit`` seconds."""
-    check_range("stress_min", stress_min, 0.0, stress_max, high_open=True)
+    check_range("stress_min", stress_min, 0.0, check_finite("stress_max", stress_max), high_open=True)
     check_range("target_damage", target_damage, 0.0, 1.0, low_open=True, high_open=True)
     if jump is not None:
         check_positive("jump", jump)
+    check_integer("ramp_steps", ramp_steps, 1)
+    check_integer("max_cycles", max_cycles, 1)
+    if time_limit is not None:
+        check_positive("time_limit", time_limit)
     loaded = np.asarray(loaded)
     p = sim.particles
     area = 2.0 * p.radius[loaded]

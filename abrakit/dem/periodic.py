@@ -72,7 +72,7 @@ class Periodic:
 
     def __post_init__(self):
         self.lengths = np.array(self.lengths, dtype=float).reshape(-1)
-        self.lower = np.array(self.lower, dtype=float).reshape(-1)
+        self.lower = np.array(check_finite("lower", self.lower), dtype=float).reshape(-1)
         self.tilt = np.array(self.tilt, dtype=float)
         if self.lengths.shape != (3,) or self.lower.shape != (3,):
             raise ValueError(f"lengths and lower must have 3 entries (x, y, z), got {self.lengths.shape} and "

@@ -24,7 +24,14 @@ from abrakit.dem.measure import coordination_number, energy_balance, kinetic_ene
 from abrakit.dem.simulation import Simulation
 from abrakit.dem.state import Particles, sphere_mass
 from abrakit.dem.walls import Walls
-from abrakit.validation import check_finite, check_option, check_positive, check_range, number_arguments
+from abrakit.validation import (
+    check_finite,
+    check_integer,
+    check_option,
+    check_positive,
+    check_range,
+    number_arguments,
+)
 
 
 def impact_analytic(kn, mass, velocity, damping_ratio=0.0, local_damping=0.0) -> dict:
@@ -187,6 +194,7 @@ def bonded_pair(mode="tension", kind="contact", *, radius: float = 0.01, density
     kind = check_option("kind", kind, ("contact", "parallel"))
     if mode == "bending" and kind == "contact":
         raise ValueError("contact bonds carry no moment: bending needs kind='parallel'")
+    check_positive("radius", radius)
     p = Particles.spheres([[0, 0, 0], [2 * radius, 0, 0]], radius, density, kn=2 * kn, friction=0.5,
                           fixed=True)
     # both spheres move kinematically, so the step is set from the bond stiffness: 0.1 √(m/k)
@@ -238,6 +246,7 @@ def bonded_chain_wave(n: int = 200, *, radius: float = 0.005, density: float = 2
     position over time gives the wave speed, compared with c = ℓ√(k/m) (long waves of the discrete chain).
     """
     n = int(check_positive("n", n))
+    check_positive("radius", radius)
     width = check_positive("width", width)
     if amplitude is not None:
         amplitude = check_finite("amplitude", amplitude)
@@ -294,9 +303,10 @@ def settling(n: int = 300, *, seed: int = 0, radius: float = 0.005, spread: floa
     check_range("spread", spread, 0.0, 1.0, high_open=True)
     check_positive("density", density)
     check_positive("kn", kn)
+    check_range("wall_friction", wall_friction, 0.0, None)
     max_steps = int(check_range("max_steps", max_steps, 1, None))       # the settling loop's bound
     if steps is not None:
-        steps = int(check_range("steps", steps, 0, None))
+        steps = int(check_range("steps", steps, 1, None))               # the summary's energy needs a step
     side = 2 * radius * max(np.sqrt(n / 6.0), 3.0) if box is None else box
     per_layer = max(int(side / (2.1 * radius * (1 + spread))) ** 2, 1)
     m = int(np.sqrt(per_layer))
@@ -342,10 +352,11 @@ def dense_packing(n=1000, *, seed=0, radius=0.001, spread=0.1, overlap=0.005, de
     stressed, not relaxed: neighbours drawn large overlap by up to about 2·``spread``·r, and the first steps
     release those springs (the Simulation's warning about deep initial overlaps is expected here and silenced).
     """
-    rng = np.random.default_rng(seed)
+    rng = np.random.default_rng(None if seed is None else check_integer("seed", seed, 0))
     n = int(check_positive("n", n))
     check_positive("radius", radius)
     check_range("spread", spread, 0.0, 1.0, high_open=True)
+    check_range("wall_friction", wall_friction, 0.0, None)
     check_range("overlap", overlap, -1.0, 1.0, low_open=True, high_open=True)
     check_positive("agitation", agitation, allow_zero=True)
     m = max(int(round((n / 4) ** (1 / 3))), 1)                 # m × m cells per layer, layers filled upwards

@@ -33,11 +33,15 @@ from numpy.typing import ArrayLike
 from scipy.integrate import solve_ivp
 from scipy.special import wrightomega
 
-from abrakit.evolution._schemes import SCHEMES, _Model1D
+from abrakit.evolution._schemes import SCHEMES, _check_model, _check_state0, _Model1D
 from abrakit.evolution._search import NonConvexWarning as NonConvexWarning  # raised here, filtered by users
 from abrakit.evolution._search import _argmin_with_kink
 from abrakit.validation import (
+    broadcast_shapes,
+    check_callable,
     check_finite,
+    check_instance,
+    check_integer,
     check_number_fields,
     check_option,
     check_positive,
@@ -162,7 +166,11 @@ def rate_dependent_update(lam_m: ArrayLike, p: ArrayLike, dt: float, dissipation
     The printed Eq. (2.112) switches on |p| > r2, which compares a stress with a viscosity (MPa vs MPa·s) and
     lets λ decrease for r2 < |p| < r1; the printed Eq. (4.53) lacks the bracket, so p = 0 would still change λ.
     """
+    check_finite("lam_m", lam_m)
+    check_finite("p", p)
+    broadcast_shapes(lam_m=lam_m, p=p)
     dt = check_positive("dt", dt)
+    check_instance("dissipation", dissipation, Dissipation)
     return np.asarray(lam_m, dtype=float) + dt * dissipation.rate(p)
 
 
@@ -203,14 +211,24 @@ def variational_update(
 
     A potential that keeps decreasing through ``max_expansions`` doublings raises ``RuntimeError``.
     """
+    check_callable("free_energy", free_energy)
+    check_instance("dissipation", dissipation, Dissipation)
     dt = check_positive("dt", dt)
     eps, lam_m = check_finite("eps", eps), check_finite("lam_m", lam_m)
     check_option("on_nonconvex", on_nonconvex, ("warn", "raise", "ignore"))
-    if int(grid) < 5:
-        raise ValueError(f"grid must be >= 5 points, got {grid!r}")
-    lo, hi = (float(b) for b in bounds)
+    grid = check_integer("grid", grid, 5)
+    max_expansions = check_integer("max_expansions", max_expansions, 1)
+    try:
+        lo, hi = (float(b) for b in bounds)
+    except (TypeError, ValueError) as exc:
+        raise TypeError(f"bounds must be a pair (lower, upper) of numbers, got {bounds!r}") from exc
     if not lo < hi:
         raise ValueError(f"bounds must satisfy lower < upper, got {bounds!r}")
+    args = check_instance("args", args, (tuple, list))
+    for k, a in enumerate(args):
+        check_finite(f"args[{k}]", a)
+    check_finite("width", width)
+    broadcast_shapes(eps=eps, lam_m=lam_m, width=width, **{f"args[{k}]": a for k, a in enumerate(args)})
     arrays = np.broadcast_arrays(
         np.asarray(eps, dtype=float), np.asarray(lam_m, dtype=float), np.asarray(width, dtype=float),
         *(np.asarray(a, dtype=float) for a in args),
@@ -233,15 +251,26 @@ def variational_update(
     return out[()] if out.ndim == 0 else out
 
 
-
 # ----------------------------------------------------------------------------------------------------------
 # Two 1D models with closed-form updates
 # ----------------------------------------------------------------------------------------------------------
 
 
-
-class DamageState(NamedTuple):
+class _DamageFields(NamedTuple):
     d: np.ndarray
+
+
+class DamageState(_DamageFields):
+    """State of :class:`Damage1D`: the damage d ≥ 0 [-] of each point (a number or an array).
+
+    The models build their states with ``DamageState._make`` (unchecked); a state built by hand is checked.
+    """
+
+    __slots__ = ()
+
+    def __new__(cls, d):
+        check_range("d", d, 0.0)
+        return super().__new__(cls, d)
 
 
 @dataclass(frozen=True)
@@ -260,7 +289,7 @@ class Damage1D(_Model1D):
         check_option("damage_function", self.damage_function, ("exp", "quadratic"))
 
     def initial_state(self, shape=()) -> DamageState:
-        return DamageState(np.zeros(shape))
+        return DamageState._make((np.zeros(shape),))
 
     def f(self, d):
         d = np.asarray(d, dtype=float)
@@ -292,7 +321,7 @@ class Damage1D(_Model1D):
 
     def state_rate(self, eps, state: DamageState, dissipation: Dissipation):
         """ḋ = [p - r1]_+ / r2 [1/s], Eq. (2.111)."""
-        return DamageState(dissipation.rate(self.driving_force(eps, state)))
+        return DamageState._make((dissipation.rate(self.driving_force(eps, state)),))
 
     def backward_step(self, eps, state_m: DamageState, dt, dissipation: Dissipation) -> DamageState:
         """d^{m+1} with p(ε, d^{m+1}) in closed form (Eqs. 2.109, 2.111 backward in d).
@@ -324,7 +353,7 @@ class Damage1D(_Model1D):
             else:
                 a = dt / r2
                 d_new = (d_m + a * (2.0 * psi0 - r1)) / (1.0 + 2.0 * a * psi0)
-        return DamageState(np.where(active, np.maximum(d_new, d_m), d_m))
+        return DamageState._make((np.where(active, np.maximum(d_new, d_m), d_m),))
 
     def forward_step(self, eps, state_m: DamageState, dt, dissipation: Dissipation) -> DamageState:
         new = super().forward_step(eps, state_m, dt, dissipation)
@@ -344,12 +373,28 @@ class Damage1D(_Model1D):
         psi, args = self.incremental_free_energy(state_m)
         bounds = (0.0, 1.0) if self.damage_function == "quadratic" else (0.0, np.inf)
         kw = {"width": 1.0, "bounds": bounds} | kw
-        return DamageState(variational_update(psi, dissipation, eps, state_m.d, dt, args=args, **kw))
+        return DamageState._make((variational_update(psi, dissipation, eps, state_m.d, dt, args=args, **kw),))
 
 
-class PlasticState(NamedTuple):
+class _PlasticFields(NamedTuple):
     eps_p: np.ndarray
     alpha: np.ndarray
+
+
+class PlasticState(_PlasticFields):
+    """State of :class:`Plasticity1D`: plastic strain εp [-] and accumulated plastic strain α = ∫|ε̇p| dt ≥ 0 [-]
+    of each point (numbers or arrays that broadcast together).
+
+    The models build their states with ``PlasticState._make`` (unchecked); a state built by hand is checked.
+    """
+
+    __slots__ = ()
+
+    def __new__(cls, eps_p, alpha):
+        check_finite("eps_p", eps_p)
+        check_range("alpha", alpha, 0.0)
+        broadcast_shapes(eps_p=eps_p, alpha=alpha)
+        return super().__new__(cls, eps_p, alpha)
 
 
 @dataclass(frozen=True)
@@ -370,7 +415,7 @@ class Plasticity1D(_Model1D):
         object.__setattr__(self, "K", check_positive("K", self.K, allow_zero=True))
 
     def initial_state(self, shape=()) -> PlasticState:
-        return PlasticState(np.zeros(shape), np.zeros(shape))
+        return PlasticState._make((np.zeros(shape), np.zeros(shape)))
 
     def free_energy(self, eps, state: PlasticState):
         """Ψ = ½ E (ε - εp)² + ½ K α² [MPa]."""
@@ -392,7 +437,7 @@ class Plasticity1D(_Model1D):
         """ε̇p = sgn(p) [Φ]_+ / r2, α̇ = |ε̇p| [1/s], Eq. (2.111) with the hardened threshold."""
         dissipation.require_rate_dependence()
         flow = _plus(self.yield_function(eps, state, dissipation)) / dissipation.r2
-        return PlasticState(np.sign(self.driving_force(eps, state)) * flow, flow)
+        return PlasticState._make((np.sign(self.driving_force(eps, state)) * flow, flow))
 
     def backward_step(self, eps, state_m: PlasticState, dt, dissipation: Dissipation) -> PlasticState:
         """Return mapping with p(ε, λ^{m+1}): Δα = [Φ_trial]_+ / (E + K + r2/Δt), Δεp = sgn(p_trial) Δα.
@@ -401,7 +446,7 @@ class Plasticity1D(_Model1D):
         """
         p_trial = self.driving_force(eps, state_m)
         step = _plus(self.yield_function(eps, state_m, dissipation)) / (self.E + self.K + dissipation.r2 / dt)
-        return PlasticState(state_m.eps_p + np.sign(p_trial) * step, state_m.alpha + step)
+        return PlasticState._make((state_m.eps_p + np.sign(p_trial) * step, state_m.alpha + step))
 
     def incremental_free_energy(self, state_m: PlasticState):
         """(Ψ(ε, εp, εp^m, α^m), args) with α = α^m + |εp - εp^m| eliminated, for :func:`variational_update`."""
@@ -417,7 +462,7 @@ class Plasticity1D(_Model1D):
         gap = np.abs(np.asarray(eps, float) - state_m.eps_p)  # the minimiser lies between εp^m and ε
         kw = {"width": np.where(gap > 0, gap, 1.0)} | kw
         eps_p = variational_update(psi, dissipation, eps, state_m.eps_p, dt, args=args, **kw)
-        return PlasticState(eps_p, state_m.alpha + np.abs(eps_p - state_m.eps_p))
+        return PlasticState._make((eps_p, state_m.alpha + np.abs(eps_p - state_m.eps_p)))
 
 
 # ----------------------------------------------------------------------------------------------------------
@@ -428,13 +473,23 @@ class Plasticity1D(_Model1D):
 def simulate(model, strain, time, dissipation: Dissipation, scheme: str = "implicit", state0=None, **kw):
     """Drive material point(s) along ``strain[m]`` at ``time[m]`` (leading axis = time); returns a dict of
     arrays ``time``, ``strain``, ``stress`` and one entry per state field (e.g. ``d`` or ``eps_p``, ``alpha``).
+
+    ``**kw`` are options of :func:`variational_update` (``scheme="variational"`` only).
     """
-    time = np.asarray(time, dtype=float)
-    strain = np.asarray(strain, dtype=float)
-    if time.ndim != 1 or strain.shape[:1] != time.shape:
+    _check_model(model)
+    time = np.asarray(check_finite("time", time))
+    strain = np.asarray(check_finite("strain", strain))
+    if time.ndim != 1 or time.size < 1:
+        raise ValueError(f"time must be a 1D array of at least one instant, got shape {time.shape}")
+    if strain.shape[:1] != time.shape:
         raise ValueError(f"strain must have the time axis first: time {time.shape}, strain {strain.shape}")
     if np.any(np.diff(time) <= 0):
         raise ValueError("time must increase strictly (dt > 0)")
+    check_instance("dissipation", dissipation, Dissipation)
+    check_option("scheme", scheme, (*SCHEMES, "variational"))
+    if kw and scheme != "variational":
+        raise TypeError(f"options {sorted(kw)} are options of scheme='variational', not of scheme={scheme!r}")
+    state0 = _check_state0(model, state0, strain.shape[1:])
     state = model.initial_state(strain.shape[1:]) if state0 is None else state0
     states = [state]
     for m in range(time.size - 1):
@@ -451,17 +506,20 @@ def reference_solution(model, strain_fn, time, dissipation: Dissipation, state0=
     8th-order Runge–Kutta method (DOP853): an independent reference for the time-stepping schemes.
     Needs r2 > 0; ``strain_fn(t)`` returns the (scalar) strain.
     """
-    dissipation.require_rate_dependence()
+    check_instance("dissipation", dissipation, Dissipation).require_rate_dependence()
     time = check_finite("time", time)                    # a NaN time or tolerance made the integrator hang
     if np.ndim(time) != 1 or len(time) < 2 or np.any(np.diff(time) <= 0):
         raise ValueError("time must be an increasing 1D array of at least two instants")
     check_range("rtol", rtol, 0.0, 1.0, low_open=True, high_open=True)
     check_positive("atol", atol)
+    _check_model(model)
+    check_callable("strain_fn", strain_fn)
+    state0 = _check_state0(model, state0)
     state = model.initial_state() if state0 is None else state0
     fields = type(state)
 
     def rhs(t, y):
-        return np.array(model.state_rate(strain_fn(t), fields(*y), dissipation), dtype=float)
+        return np.array(model.state_rate(strain_fn(t), fields._make(y), dissipation), dtype=float)
 
     sol = solve_ivp(rhs, (time[0], time[-1]), np.array(state, dtype=float), method="DOP853", t_eval=time,
                     rtol=rtol, atol=atol)
@@ -472,8 +530,16 @@ def reference_solution(model, strain_fn, time, dissipation: Dissipation, state0=
 
 @number_arguments
 def observed_order(dt: ArrayLike, error: ArrayLike, last: int = 3) -> float:
-    """Slope of log(error) over log(Δt) through the ``last`` smallest steps (least squares)."""
+    """Slope of log(error) over log(Δt) through the ``last`` smallest steps (least squares); Δt > 0 and
+    error > 0 are 1D arrays of one length, ``last`` ≥ 2."""
+    check_positive("dt", dt)
+    check_positive("error", error)
+    last = check_integer("last", last, 2)
+    if np.ndim(dt) != 1 or np.shape(error) != np.shape(dt):
+        raise ValueError(f"dt and error must be 1D arrays of one length, got {np.shape(dt)} and {np.shape(error)}")
     dt, error = np.asarray(dt, float), np.asarray(error, float)
+    if np.unique(dt[np.argsort(dt)[:last]]).size < 2:
+        raise ValueError(f"dt must hold at least two distinct steps among its {last} smallest, got {dt!r}")
     keep = np.argsort(dt)[:last]
     return float(np.polyfit(np.log(dt[keep]), np.log(error[keep]), 1)[0])
 
@@ -487,9 +553,22 @@ def convergence_study(model, dissipation: Dissipation, strain_fn, t_end, n_steps
     is called after each run (to stream results to disk). Returns
     ``{scheme: {"n_steps", "dt", "error", "runtime"}, "orders": {scheme: observed order}}``.
     """
+    _check_model(model)
+    check_instance("dissipation", dissipation, Dissipation).require_rate_dependence()
+    check_callable("strain_fn", strain_fn)
     t_end = check_positive("t_end", t_end)
+    check_instance("n_steps", n_steps, (tuple, list, np.ndarray))
+    n_steps = [check_integer("n_steps", n, 1) for n in np.ravel(n_steps)]
+    if len(set(n_steps)) < 2:
+        raise ValueError(f"n_steps must hold at least two distinct numbers of steps (an order needs two), "
+                         f"got {n_steps!r}")
+    if isinstance(schemes, str) or not isinstance(schemes, tuple | list) or not schemes:
+        raise TypeError(f"schemes must be a non-empty tuple of scheme names, got {schemes!r}")
     for scheme in schemes:
         check_option("scheme", scheme, (*SCHEMES, "variational"))
+    repeats = check_integer("repeats", repeats, 1)
+    check_instance("reference_kw", reference_kw, dict, optional=True)
+    check_callable("on_result", on_result, optional=True)
     field = model.initial_state()._fields[0]
     result = {scheme: {"n_steps": [], "dt": [], "error": [], "runtime": []} for scheme in schemes}
     for n in n_steps:
@@ -509,6 +588,10 @@ def convergence_study(model, dissipation: Dissipation, strain_fn, t_end, n_steps
             if on_result is not None:
                 on_result(scheme=scheme, **row)
     result = {scheme: {k: np.array(v) for k, v in rows.items()} for scheme, rows in result.items()}
+    for scheme in schemes:
+        if np.any(result[scheme]["error"] == 0.0):
+            raise ValueError(f"strain_fn gives scheme {scheme!r} an error of exactly 0 at some Δt (a path on which "
+                             "the state does not evolve?): its order is undefined")
     result["orders"] = {s: observed_order(result[s]["dt"], result[s]["error"]) for s in schemes}
     return result
 

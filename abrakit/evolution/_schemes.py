@@ -1,6 +1,7 @@
 """Time discretisations of the 1D evolution laws (Eq. 2.110 ff.): which time levels of ε and λ the driving force
 p(ε, λ) takes, and the time stepping that :class:`abrakit.evolution.Damage1D` and
-:class:`abrakit.evolution.Plasticity1D` share."""
+:class:`abrakit.evolution.Plasticity1D` share, with the checks of a model and of its initial state that the
+drivers share."""
 
 from __future__ import annotations
 
@@ -8,7 +9,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from abrakit.validation import check_option, check_positive
+from abrakit.validation import broadcast_shapes, check_finite, check_instance, check_option, check_positive
 
 if TYPE_CHECKING:
     from abrakit.evolution import Dissipation
@@ -44,10 +45,31 @@ class _Model1D:
     def forward_step(self, eps, state_m, dt, dissipation: Dissipation):
         """λ^{m+1} = λ^m + Δt λ̇(ε, λ^m): Eq. (2.112) (corrected switch) with p at (ε, λ^m), Eq. (4.53)."""
         rates = self.state_rate(eps, state_m, dissipation)
-        return type(state_m)(*(np.asarray(x, float) + dt * r for x, r in zip(state_m, rates, strict=True)))
+        return type(state_m)._make(np.asarray(x, float) + dt * r for x, r in zip(state_m, rates, strict=True))
 
     def consistency_parameter(self, eps, state_m, state):
         """Δρ = |Δλ| / |p(ε, λ^{m+1})| [1/MPa], Eq. (2.105) in increments: λ^{m+1} - λ^m = Δρ p (Eq. 2.109)."""
         step = np.abs(np.asarray(state[0], float) - np.asarray(state_m[0], float))
         p = np.abs(self.driving_force(eps, state))
         return np.divide(step, p, out=np.zeros(np.broadcast(step, p).shape), where=step > 0)
+
+
+def _check_model(model):
+    """``model`` if it is one of the 1D models (:class:`Damage1D`, :class:`Plasticity1D`), else ``TypeError``."""
+    if not isinstance(model, _Model1D):
+        raise TypeError(f"model must be a Damage1D or Plasticity1D, got {model!r}")
+    return model
+
+
+def _check_state0(model, state0, shape=()):
+    """``state0`` if it is ``None`` or a finite state of ``model`` whose fields broadcast to ``shape``."""
+    if state0 is None:
+        return None
+    kind = type(model.initial_state())
+    check_instance("state0", state0, kind)
+    for name, value in zip(state0._fields, state0, strict=True):
+        check_finite(f"state0.{name}", value)
+        if broadcast_shapes(**{f"state0.{name}": value, "points": np.broadcast_to(0.0, shape)}) != tuple(shape):
+            raise ValueError(f"state0.{name} must broadcast to the points' shape {tuple(shape)}, "
+                             f"got {np.shape(value)}")
+    return kind(*state0)                               # the state's own checks: d >= 0, alpha >= 0

@@ -59,6 +59,7 @@ from abrakit.dem.state import ContactSet
 from abrakit.io import dumps, loads, source_fingerprint, write_atomically
 from abrakit.validation import (
     check_finite,
+    check_integer,
     check_number_fields,
     check_option,
     check_positive,
@@ -478,6 +479,7 @@ def genesis(spec: SpecimenSpec | None = None, *, cache: bool | str | Path = True
     cached one outside it is made anew.
     """
     spec = SpecimenSpec(**spec_kwargs) if spec is None else spec
+    check_integer("max_steps", max_steps, 4)              # a quarter of it for each expansion stage
     path = None
     if cache:
         stem = spec.key() + ("" if max_steps == MAX_STEPS else f"_steps{int(max_steps)}")

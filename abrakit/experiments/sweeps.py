@@ -48,7 +48,7 @@ from datetime import datetime, timezone
 from pathlib import Path
 
 from abrakit.io import dumps, jsonable, loads, progress_bar, read_json, write_json
-from abrakit.validation import check_option
+from abrakit.validation import check_integer, check_option
 
 BACKENDS = ("serial", "joblib", "dask")
 
@@ -210,7 +210,7 @@ def run_sweep(case_fn: Callable[[dict], Mapping], params_list: Iterable[Mapping]
     backend = ("dask" if scheduler_address is not None else "joblib") if backend is None else backend
     check_option("backend", backend, BACKENDS)
     check_option("errors", errors, ("raise", "record"))
-    if n_jobs is not None and (int(n_jobs) == 0 or int(n_jobs) != n_jobs):
+    if n_jobs is not None and check_integer("n_jobs", n_jobs) == 0:
         raise ValueError(f"n_jobs must be a non-zero integer (negative counts back from all cores), got {n_jobs!r}")
     if isinstance(paths, str):
         raise TypeError(f"paths must be a list of parameter names, got the string {paths!r}")

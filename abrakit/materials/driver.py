@@ -89,6 +89,7 @@ def ramp(peak: ArrayLike, n_steps: int) -> np.ndarray:
     """``n_steps`` equal increments from 0 to ``peak`` (the values after each step)."""
     if n_steps < 1:
         raise ValueError(f"n_steps must be >= 1, got {n_steps}")
+    check_finite("peak", peak)
     return np.linspace(0.0, 1.0, n_steps + 1)[1:] * peak
 
 
@@ -97,6 +98,8 @@ def cycles(amplitude: float, n_cycles: int, steps_per_quarter: int, mean: float 
     """Symmetric triangle wave ``mean -> mean + a -> mean - a -> mean`` repeated ``n_cycles`` times."""
     if n_cycles < 1 or steps_per_quarter < 1:
         raise ValueError("n_cycles and steps_per_quarter must be >= 1")
+    check_finite("amplitude", amplitude)
+    check_finite("mean", mean)
     phase = np.arange(1, 4 * steps_per_quarter * n_cycles + 1) / (4.0 * steps_per_quarter)
     return mean + amplitude * (2.0 / np.pi) * np.arcsin(np.sin(2.0 * np.pi * phase))
 
@@ -127,10 +130,11 @@ def drive(
     check_positive("tol", tol)
     if max_iter < 0:                         # 0: the step's strain-controlled response only, no correction
         raise ValueError(f"max_iter must be a non-negative integer, got {max_iter!r}")
-    strain = np.asarray(strain, dtype=float)
+    strain = np.asarray(check_finite("strain", strain), dtype=float)
     if strain.ndim < 2 or strain.shape[-1] != 6:
         raise ValueError(f"strain must have shape (n_steps, ..., 6), got {strain.shape}")
-    stress_target = np.zeros_like(strain) if stress is None else np.broadcast_to(stress, strain.shape)
+    stress_target = np.zeros_like(strain) if stress is None else np.broadcast_to(check_finite("stress", stress),
+                                                                                 strain.shape)
     mask = np.zeros(6, bool) if stress_controlled is None else np.asarray(stress_controlled, bool)
     if mask.shape != (6,):
         raise ValueError(f"stress_controlled must be a boolean mask of length 6, got shape {mask.shape}")
@@ -191,9 +195,10 @@ def _solve_step(material, state, eps, target, mask, dt, kwargs, tol, max_iter, j
     )
 
 
-def _axis_path(values, components):
-    """Mandel strain path ``(N, ..., 6)`` with ``strain[..., k] = weight * values`` for each (k, weight)."""
-    values = np.asarray(values, dtype=float)
+def _axis_path(values, components, name: str):
+    """Mandel strain path ``(N, ..., 6)`` with ``strain[..., k] = weight * values`` for each (k, weight);
+    ``name``: the parameter that gave ``values`` (its errors name it)."""
+    values = np.asarray(check_finite(name, values), dtype=float)
     strain = np.zeros((*values.shape, 6))
     for k, weight in components.items():
         strain[..., k] = weight * values
@@ -202,21 +207,21 @@ def _axis_path(values, components):
 
 def uniaxial_strain(material, eps11, **kwargs) -> PathResult:
     """``eps_11`` imposed (values per step), every other strain component zero."""
-    return drive(material, _axis_path(eps11, {0: 1.0}), **kwargs)
+    return drive(material, _axis_path(eps11, {0: 1.0}, "eps11"), **kwargs)
 
 
 def uniaxial_stress(material, eps11, **kwargs) -> PathResult:
     """``eps_11`` imposed, every other stress component zero (mixed control)."""
     mask = np.array([False, True, True, True, True, True])
-    return drive(material, _axis_path(eps11, {0: 1.0}), stress_controlled=mask, **kwargs)
+    return drive(material, _axis_path(eps11, {0: 1.0}, "eps11"), stress_controlled=mask, **kwargs)
 
 
 def plane_strain_tension(material, eps11, **kwargs) -> PathResult:
     """``eps_11`` imposed, ``eps_33 = 0`` and zero shear strains (plane strain), ``sigma_22 = 0``."""
     mask = np.array([False, True, False, False, False, False])
-    return drive(material, _axis_path(eps11, {0: 1.0}), stress_controlled=mask, **kwargs)
+    return drive(material, _axis_path(eps11, {0: 1.0}, "eps11"), stress_controlled=mask, **kwargs)
 
 
 def pure_shear(material, gamma12, **kwargs) -> PathResult:
     """Engineering shear ``gamma_12 = 2 eps_12`` imposed, every other strain component zero."""
-    return drive(material, _axis_path(gamma12, {5: _SQRT2 / 2.0}), **kwargs)
+    return drive(material, _axis_path(gamma12, {5: _SQRT2 / 2.0}, "gamma12"), **kwargs)

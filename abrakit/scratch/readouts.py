@@ -26,6 +26,7 @@ import scipy.sparse as sp
 from abrakit.fem.kinematics import Kinematics
 from abrakit.scratch.groove import at_cap, groove_metrics, profile_from_surface_nodes
 from abrakit.scratch.scene import ScratchScene, ScratchSpecimen
+from abrakit.validation import check_finite
 
 
 def groove_section(specimen: ScratchSpecimen, u: np.ndarray, scene: ScratchScene, z: float | None = None):
@@ -107,7 +108,7 @@ def groove_balance(result, z: float | None = None) -> GrooveBalance:
     """:class:`GrooveBalance` of the final state of ``result`` (a ScratchResult) in the element layer that
     contains ``z`` (default: the mid-length section), whole model (twice the half model's integrals)."""
     kin = Kinematics.from_basis(result.specimen.basis)
-    z = result.scene.z_section if z is None else z
+    z = result.scene.z_section if z is None else check_finite("z", z)
     zs = np.unique(np.round(result.specimen.mesh.p[2], 12))
     k = int(np.clip(np.searchsorted(zs, z, side="right") - 1, 0, zs.size - 2))
     z0, z1 = zs[k], zs[k + 1]

@@ -60,7 +60,7 @@ from abrakit.scratch.scene import (
     build_specimen,
     st52_material,
 )
-from abrakit.validation import check_option, check_range
+from abrakit.validation import check_integer, check_option
 
 SCRATCH_NEWTON = NewtonOptions(residual_tol=1e-3, increment_tol=1e-2, max_iterations=20, divergence_check_after=10,
                                tangent_reuse=1e-4)
@@ -464,7 +464,8 @@ def run_scratch(scene: ScratchScene = SEED_SCENE, *, output=None, progress: bool
     it and the increments after it are recomputed with the phase's nominal increment (the same increments as an
     uninterrupted run unless a cutback was being recovered from when it stopped).
     """
-    check_range("checkpoint_every", checkpoint_every, 0, None)
+    check_integer("vtu_every", vtu_every, 0)
+    check_integer("checkpoint_every", checkpoint_every, 0)
     t_start = time.perf_counter()
     run = _ScratchRun(scene, output, vtu_every=vtu_every, linear_solver=linear_solver,
                       newton=newton or SCRATCH_NEWTON, inexact=inexact, checkpoint_every=checkpoint_every)

@@ -30,7 +30,7 @@ from abrakit.scratch.hertz import hertz_sphere
 from abrakit.scratch.indenters import ScratchPath, SphericalIndenter
 from abrakit.scratch.run import scene_solver
 from abrakit.scratch.scene import ST52, st52_material, zoned_axis
-from abrakit.validation import check_option, check_positive, number_arguments
+from abrakit.validation import check_integer, check_option, check_positive, check_range, number_arguments
 
 
 class HertzCheck(NamedTuple):
@@ -72,6 +72,12 @@ def hertz_indentation(h: float, penalty: float = 1.0, *, R: float = 0.05, d: flo
     """
     t0 = time.perf_counter()
     check_positive("h", h)
+    check_positive("penalty", penalty)
+    check_positive("R", R)
+    check_positive("d", d)
+    check_integer("steps", steps, 1)
+    check_range("extent", extent, 2.25, None, low_open=True)          # beyond the fine zone of 2.25 a
+    check_range("growth", growth, 1.0, None)
     a = math.sqrt(R * d)
     L = extent * a
     # fine zone 2.25 a: nodes then never fall on the contact edge r = a for h = a, a/2, a/4, ...
