@@ -93,7 +93,8 @@ def run_specimen(specimen: DamageSpecimen, model: str, parameter: float, *, step
     20 000 opening steps took the force only to 90 % of the peak.)
     """
     check_option("model", model, MODELS)
-    check_positive("parameter", parameter, allow_zero=model == "I")     # beta >= 0; alpha, G_Ic > 0
+    name = {"I": "parameter (beta)", "II": "parameter (alpha)"}.get(model, "parameter (G_Ic)")
+    check_positive(name, parameter, allow_zero=model == "I")          # beta >= 0; alpha, G_Ic > 0
     check_positive("step", step)
     if stop_fraction is not None:
         check_range("stop_fraction", stop_fraction, 0.0, 1.0, low_open=True, high_open=True)
