@@ -45,15 +45,21 @@ def test_bonded_pair_pulled_apart_follows_the_constitutive_driver_and_breaks_in_
     assert len(sim.fatigue_bonds) == 0
 
 
+def opened_pair(stress: float):
+    """The bonded pair opened in 100 steps to the normal stress ``stress`` [Pa] of its undamaged bond, then held."""
+    sim = bonded_pair()
+    opening = stress / (P.kn * (1 - P.initial_damage))
+    sim.particles.v[1] = (opening / (100 * sim.dt), 0.0, 0.0)
+    sim.run(100)
+    sim.particles.v[1] = 0.0
+    return sim
+
+
 def test_onset_of_unloading_applies_paris_law_and_the_stress_update_of_eq_38():
     """Open the pair to 80 kPa (above the fatigue criterion, below yield), call the cycle update: D grows by
     Eq. (27) with the range 80 − 0 kPa, the opening loses the fatigue displacement of Eq. (36), and the stress after
     the update is Eq. (38)'s σ (1 − Dⁿ)/(1 − Dⁿ⁻¹) − Δu_nᶠ (1 − Dⁿ) k_n."""
-    sim = bonded_pair()
-    opening = 80e3 / (P.kn * (1 - P.initial_damage))
-    sim.particles.v[1] = (opening / (100 * sim.dt), 0.0, 0.0)
-    sim.run(100)
-    sim.particles.v[1] = 0.0
+    sim = opened_pair(80e3)
     b = sim.fatigue_bonds
     before = b.sigma[0, 0]
     assert before == pytest.approx(80e3, rel=1e-9) and not b.yielded[0]
@@ -77,11 +83,7 @@ def test_the_jump_stops_before_the_cycle_in_which_a_bond_would_yield(jump):
     jump given directly to :func:`cycle_update` without a limit passes D*."""
     from abrakit.fatigue.paris import cycle_update, peak_failure_damage
 
-    sim = bonded_pair()
-    opening = 110e3 / (P.kn * (1 - P.initial_damage))
-    sim.particles.v[1] = (opening / (100 * sim.dt), 0.0, 0.0)
-    sim.run(100)
-    sim.particles.v[1] = 0.0
+    sim = opened_pair(110e3)
     b = sim.fatigue_bonds
     assert not b.yielded[0]
     failure = peak_failure_damage(b.damage, b.peak[0], b.peak[1], P)[0]
