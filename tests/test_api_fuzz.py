@@ -107,21 +107,13 @@ FACE_BOUNDS = {"non_finite_from_finite": 0, "accepted": 0, "timeout": 0}
 #: experiments.compression.elastic_test, whose harvested calls hold a class that was renamed (Specimen) and whose
 #: smallest run (20 grains, relaxed with friction) takes about 20 s.
 WITHOUT_A_VALID_CALL = 1
-#: Face callables whose refusals are still missing, with what they accept (the fuzz lists their cases in
-#: api_fuzz.json): left out of the bounds above until their modules check these arguments at the door.
-PENDING = {
-    "abrakit.experiments.bending.monotonic_bending": "NaN/inf max_deflection; NaN, inf, 0, negative max_steps",
-    "abrakit.experiments.cyclic.cyclic_bending": "NaN, inf, 0, negative max_cycles and reference_cycles; NaN, inf "
-                                                 "and a string for max_simulated",
-    "abrakit.fatigue.single_bond.cyclic_test": "inf stress_max and increment; 0 and negative max_cycles",
-}
 
 
-def face_cases(result, outcome, pending: bool = False):
-    """The face cases of ``outcome`` as (callable, parameter, value); those of :data:`PENDING` only if ``pending``."""
+def face_cases(result, outcome):
+    """The face cases of ``outcome`` as (callable, parameter, value)."""
     faces = fuzz.face_callables()
     return [(c["callable"], c["parameter"], c["value"]) for c in result["cases"]
-            if c["callable"] in faces and (pending or c["callable"] not in PENDING) and c["outcome"] == outcome]
+            if c["callable"] in faces and c["outcome"] == outcome]
 
 
 def test_every_face_callable_has_a_valid_call(catalogue):
@@ -131,9 +123,8 @@ def test_every_face_callable_has_a_valid_call(catalogue):
 
 
 def test_finite_bad_input_to_a_face_gives_no_nan_or_inf(result):
-    every = [c for c in face_cases(result, "non_finite", pending=True) if c[2] in fuzz.FINITE_LABELS]
-    assert result["face_counts"]["non_finite_from_finite"] == len(every)
-    found = [c for c in every if c[0] not in PENDING]
+    found = [c for c in face_cases(result, "non_finite") if c[2] in fuzz.FINITE_LABELS]
+    assert result["face_counts"]["non_finite_from_finite"] == len(found)
     assert len(found) <= FACE_BOUNDS["non_finite_from_finite"], found
 
 

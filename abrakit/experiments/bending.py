@@ -61,6 +61,7 @@ from abrakit.experiments.specimen import cache_dir
 from abrakit.fatigue.bond_law import BondParameters
 from abrakit.io import RunRecord, load_state, save_state, source_fingerprint
 from abrakit.validation import (
+    check_integer,
     check_number_fields,
     check_option,
     check_positive,
@@ -403,6 +404,11 @@ def monotonic_bending(beam: Beam, *, speed: float = 5e-4, max_deflection: float 
     ``load``, ``deflection``, ``stress``, ``strain``, ``broken`` (broken bonds so far), the peak flexural stress
     ``FS_max``, ``steps`` and ``seconds``; with ``csv`` every record is written as it is taken."""
     check_positive("speed", speed)
+    if max_deflection is not None:
+        check_positive("max_deflection", max_deflection)
+    record_every = check_integer("record_every", record_every, 1)
+    max_steps = check_integer("max_steps", max_steps, 1)
+    check_range("drop", drop, 0.0, 1.0, low_open=True, high_open=True)
     sim = beam.sim
     if beam.control != "displacement":
         raise ValueError("monotonic_bending needs a beam built with control='displacement'")

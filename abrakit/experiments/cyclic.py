@@ -17,6 +17,7 @@ from abrakit.experiments.bending import SEATING, Beam, flexural
 from abrakit.io import RunRecord, VtuSeries, load_state, save_state
 from abrakit.validation import (
     check_finite,
+    check_integer,
     check_option,
     check_positive,
     check_range,
@@ -68,6 +69,11 @@ def cyclic_bending(beam: Beam, load_max: float, *, load_min_ratio: float | None 
     ``amplification`` = δ_peak/δ_static − 1 is returned and a :class:`RuntimeWarning` names ``steps_per_cycle``
     if it exceeds :data:`QUASI_STATIC_TOLERANCE` (NaN, with a warning, where the held beam collapses)."""
     load_min_ratio = _checked_cyclic(beam, load_max, load_min_ratio, jump, plasticity, settle, quasi_static_check)
+    _check_counts(steps_per_cycle=steps_per_cycle, max_cycles=max_cycles, reference_cycles=reference_cycles,
+                  max_simulated=max_simulated)
+    check_range("life_ratio", life_ratio, 0.0, 1.0, low_open=True, high_open=True)
+    if time_limit is not None:
+        check_positive("time_limit", time_limit)
     sim = beam.sim
     saved = _resume(beam, checkpoint)
     record = RunRecord(COLUMNS, csv, None if saved is None else saved["record"])
@@ -136,6 +142,13 @@ def _checked_cyclic(beam, load_max, load_min_ratio, jump, plasticity, settle, qu
         raise ValueError("load_min_ratio must be > 0 with the 'rockers' fixture: one-sided rollers need a seating "
                          "load, or the unloaded beam leaves its supports (0.1, R = 0.1, is usual)")
     return load_min_ratio
+
+
+def _check_counts(**counts) -> None:
+    """Each count (``None`` where it is optional and absent) a whole number ≥ 1, or an error naming it."""
+    for name, value in counts.items():
+        if value is not None:
+            check_integer(name, value, 1)
 
 
 def _resume(beam: Beam, checkpoint) -> dict | None:

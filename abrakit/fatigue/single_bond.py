@@ -21,7 +21,14 @@ import numpy as np
 
 from abrakit.fatigue.bond_law import FAILURE_DAMAGE, BondParameters, criterion, plastic_return
 from abrakit.fatigue.paris import cycle_update
-from abrakit.validation import check_number_fields, check_option, check_positive, check_range, number_arguments
+from abrakit.validation import (
+    check_integer,
+    check_number_fields,
+    check_option,
+    check_positive,
+    check_range,
+    number_arguments,
+)
 
 MODES = ("tension", "shear")
 
@@ -169,7 +176,10 @@ def cyclic_test(p: BondParameters, mode: str, *, stress_min: float = 20e3, stres
     target or the peak's failure damage, whichever is lower, and that cycle is simulated. The programme then ends in
     the same cycle with and without the jump, and in tension and shear alike (their damage histories coincide,
     Sec. 4.2, while their failure damages differ: 1 − σ/σ_t and 1 − σ/c)."""
+    check_positive("stress_max", stress_max)
     check_range("stress_min", stress_min, 0.0, stress_max, high_open=True)
+    check_positive("increment", increment)
+    check_integer("max_cycles", max_cycles, 1)
     check_range("target_damage", target_damage, p.initial_damage, 1.0, low_open=True, high_open=True)
     if jump is not None:
         check_positive("jump", jump)
