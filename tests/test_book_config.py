@@ -168,7 +168,8 @@ def test_page_assets_drops_thebe_and_repeated_inline_scripts():
     inline = dict(body="const THEBE_JS_URL = 1")
     scripts = [_JavaScript("_static/a.js"), _JavaScript(None, **inline), _JavaScript("", **inline),
                _JavaScript("_static/mathjax/tex-chtml-full.js", defer="defer"),
-               _JavaScript("_static/mathjax/tex-chtml-full.js", defer="defer")]
+               _JavaScript("_static/mathjax/tex-chtml-full.js", defer="defer"),
+               _JavaScript("_static/mathjax/tex-chtml-full.js")]   # the built pages had this third copy too
     context = {"script_files": scripts}
     ext.dedupe_page_scripts(None, "p", "page.html", context, None)
     assert context["script_files"] == [scripts[0], scripts[1], scripts[3]]
@@ -279,3 +280,23 @@ def test_the_browser_check_finds_what_a_reader_would_see_broken(tmp_path):
     assert bad.network == ["https://example.org/a.png"]
     assert bad.raw_tex and "missing.png" in bad.broken
     assert len(bad.overflowing) == 1 and bad.overflowing[0]["chars"] == 200
+
+
+def test_ci_opens_the_built_book_in_a_browser():
+    """``.ci/run`` runs ``make book-check`` after ``make book``: a page with a script error, an untypeset
+    equation or code that scrolls sideways fails CI."""
+    commands = [line.strip() for line in (BOOK.parent / ".ci" / "run").read_text().splitlines()
+                if line.startswith("make ")]
+    assert commands.index("make book") < commands.index("make book-check")
+
+
+def test_no_display_equation_puts_a_tag_inside_a_split():
+    """Sphinx wraps a ``$$`` block that holds a line break (``\\\\``) in ``split``, where MathJax refuses
+    ``\\tag`` ("\\tag not allowed in split environment"): such an equation is written as an amsmath
+    ``equation`` block instead."""
+    import re
+
+    found = [(page.name, block[:60]) for page in sorted(BOOK.glob("*.md"))
+             for block in re.findall(r"\$\$(.*?)\$\$", page.read_text(), re.S)
+             if "\\tag" in block and "\\\\" in block]
+    assert found == []

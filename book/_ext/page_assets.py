@@ -3,8 +3,10 @@
 - Sphinx (7.4) adds a script registered after the builder started (``app.add_js_file(None, body=...)``, as
   sphinx-togglebutton and sphinx-thebe do) twice: once as it was registered (file name ``None``) and once from the
   registry (file name ``""``); the two do not compare equal. A page loaded the inline ``const THEBE_JS_URL``
-  twice, and the second declaration is a SyntaxError. Here the page's scripts are deduplicated, first one kept,
-  with ``None`` and ``""`` read as the same (no file: an inline script).
+  twice, and the second declaration is a SyntaxError. MathJax's file came twice as well, once with ``defer`` and
+  once without, and its second load fails ("Cannot set property Package of #<Object> which has only a getter").
+  Here the page's scripts are deduplicated, first one kept: a file by its name, an inline script (``None`` and
+  ``""`` read as the same) by its body and attributes.
 - Jupyter Book always loads sphinx-thebe, which adds a configuration script naming a CDN, a script and a
   stylesheet to every page and a Binder configuration block to every executed page, even with
   ``launch_buttons: thebe: false`` (the book runs offline and offers no live kernel). With thebe off, the
@@ -39,10 +41,14 @@ def drop_thebe(app, config=None) -> int:
 
 
 def script_key(script) -> tuple:
-    """What makes two page scripts the same: file name (``None`` read as ``""``), priority and attributes."""
+    """What makes two page scripts the same: a script file is its file name alone (loaded twice it runs twice,
+    whatever its attributes), an inline script (file name ``None`` or ``""``) its priority and attributes, which
+    hold its body."""
     filename = getattr(script, "filename", script) or ""
+    if filename:
+        return ("file", str(filename))
     attributes = getattr(script, "attributes", {}) or {}
-    return (str(filename), getattr(script, "priority", 500), tuple(sorted(attributes.items())))
+    return ("inline", getattr(script, "priority", 500), tuple(sorted(attributes.items())))
 
 
 def unique_scripts(scripts) -> list:
