@@ -302,7 +302,7 @@ def _study_calls() -> dict[str, list[dict]]:
     from abrakit.dem.fatigue_specimen import bonded_bar
     from abrakit.evolution import Plasticity1D, elasto_viscoplastic
     from abrakit.experiments.bending import BeamSpec, four_point_beam
-    from abrakit.experiments.specimen import SpecimenSpec
+    from abrakit.experiments.specimen import SpecimenSpec, genesis
     from abrakit.experiments.sweeps import run_sweep
     from abrakit.fatigue import BondParameters
     from abrakit.scratch.run import run_scratch
@@ -329,6 +329,9 @@ def _study_calls() -> dict[str, list[dict]]:
                          mesh=SpecimenMesh(h=0.004, h_z=0.005, h_y=0.0015, growth=1.8, width=1.6),
                          kinematics="small", bbar=False, material="elastic")
     scratched = run_scratch(scene, vtu_every=0)
+    with warnings.catch_warnings():                 # 20 grains, barely consolidated: a valid call, not a study
+        warnings.simplefilter("ignore")
+        grains = genesis(SpecimenSpec(n_particles=20, seed=2, aspect=1.0), cache=False, max_steps=300)
     return {
         "abrakit.damage.localisation.localisation_study": [
             {"n_elements": (3, 5), "models": {"local": bar_models()["local"]}, "step": 0.01}],
@@ -360,6 +363,8 @@ def _study_calls() -> dict[str, list[dict]]:
             {"beam": four_point_beam(BeamSpec(radius=5e-3), control="force"), "load_max": 10.0,
              "steps_per_cycle": 50, "max_cycles": 1, "reference_cycles": 1, "max_simulated": 1,
              "quasi_static_check": False}],
+        "abrakit.experiments.compression.elastic_test": [
+            {"specimen": grains, "crossings": 2.0, "records": 5, "tolerance": 1e-2}],
         "abrakit.experiments.specimen.genesis": [
             {"spec": SpecimenSpec(n_particles=20, seed=2, aspect=1.0), "cache": False, "max_steps": 300}],
         "abrakit.experiments.sweeps.load_sweep": [{"results_dir": sweeps}],
