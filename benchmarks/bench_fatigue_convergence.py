@@ -6,9 +6,10 @@ the ratcheting extrapolated through each jump and one settling cycle after it (`
 ``settle=1``), the jump schedule in stages resumed from the run's checkpoint: ΔD_jump = 0.003 for the first ten
 simulated cycles, 0.01 for six more, then 0.02 ("standard"); the same schedule with every jump halved ("halved")
 and ΔD_jump = 0.003 throughout ("0.003"). Each run at 2000, 4000, 8000 and 16000 steps per cycle (the jump
-variants at 8000), with the peak-deflection ratio δ_peak/δ_static of its first cycle beside the life (the
+variants at 8000; at 0.86 also 32000 steps, and the jump variants at 16000), with the peak-deflection ratio δ_peak/δ_static of its first cycle beside the life (the
 quasi-static measure of :func:`~abrakit.experiments.cyclic.cyclic_bending`) and the life's deviation from the
-finest run of its level and schedule.
+finest run of its level and schedule. Beside the lives, the damage two cycles add to one mid-life state (from the
+16000-steps run) at 2000 to 64000 steps per cycle: the per-cycle rate the life integrates.
 
 Every case is a resumable sweep record (``fatigue_convergence_runs/``: a finished case is read back, not
 recomputed) and every fatigue run checkpoints after each simulated cycle (``fatigue_convergence_checkpoints/``), so
@@ -90,12 +91,46 @@ def fatigue_case(params: dict) -> dict:
             "seconds": r["seconds"], "peak_ratio": ratio}
 
 
+def rate_case(params: dict) -> dict:
+    """The damage that two cycles add to one mid-life state, against the steps per cycle: the state is the
+    ``state_steps`` run's after ``state_cycles`` simulated cycles (0.86 P_max, standard jumps), each resolution
+    then runs two cycles from it without a jump. It shows whether the per-cycle damage rate has converged where
+    the life has not."""
+    beam = four_point_beam(_spec(params), control="force")
+    state = Path(params["checkpoint"])
+    settings = {"plasticity": "extrapolated", "settle": 1, "quasi_static_check": False}
+    load = params["level"] * params["P_max"]
+    for jump, bound in ((0.003, 10), (0.01, 16), (0.02, params["state_cycles"])):
+        done = _simulated(state)
+        if done < bound:
+            cyclic_bending(beam, load, steps_per_cycle=params["state_steps"], jump=jump, checkpoint=state,
+                           max_simulated=bound - done, **settings)
+    saved = load_state(state)
+    rows = []
+    for n in params["steps"]:
+        beam = four_point_beam(_spec(params), control="force")
+        beam.sim.restore(saved["sim"])
+        if beam.rollers is not None:
+            beam.rollers.restore(saved["rollers"])
+        start = beam.sim.fatigue_bonds.damage.copy()
+        clock = time.perf_counter()
+        r = cyclic_bending(beam, load, steps_per_cycle=n, jump=None, max_cycles=2, reference_cycles=1, **settings)
+        grown = beam.sim.fatigue_bonds.damage - start
+        rows.append({"steps_per_cycle": n, "damage_added": float(grown.sum()), "largest": float(grown.max()),
+                     "bonds": int((grown > 1e-12).sum()), "deflection": float(r["deflection"][-1]),
+                     "seconds": time.perf_counter() - clock})
+    return {"cycles": int(saved["record"]["cycles"][-1]),
+            "modulus_ratio": float(saved["record"]["modulus"][-1] / saved["record"]["modulus"][0]), "rows": rows}
+
+
 def cases(p_max: float, checkpoints: Path, quick: bool) -> list[dict]:
     """The runs, cheapest and most informative first: 0.86 P_max at every resolution, then 0.79, then the jump
-    variants at 8000 steps per cycle."""
+    variants at 8000 steps per cycle, then 0.86 at 32000 steps and its jump variants at 16000 (0.79 shakes down
+    at 16000 steps with every schedule, so it has no finer life to compare)."""
     levels, steps = ((0.86,), (2000, 4000)) if quick else (LEVELS, STEPS)
     plan = [(level, n, "standard") for level in levels for n in steps]
     plan += [] if quick else [(level, 8000, s) for s in ("halved", "0.003") for level in levels]
+    plan += [] if quick else [(0.86, 32000, "standard"), (0.86, 16000, "halved"), (0.86, 16000, "0.003")]
     return [{**BEAM, "P_max": p_max, "level": level, "steps_per_cycle": n, "schedule": SCHEDULES[schedule],
              "schedule_name": schedule, "max_cycles": 1_000_000, "time_limit": 600 if quick else 5400,
              "name": f"level{level:.2f}_steps{n}_{schedule}",
@@ -129,7 +164,7 @@ def plot(runs: list[dict], path: Path) -> None:
                        color=f"C{k}", label=f"{100 * level:.0f} % P_max")
         for r in done:
             ax[2].plot(r["measured_at"], r["modulus_ratio"], "-", lw=0.8, color=f"C{k}",
-                       alpha=0.4 + 0.6 * r["steps_per_cycle"] / max(STEPS))
+                       alpha=0.4 + 0.6 * r["steps_per_cycle"] / max(x["steps_per_cycle"] for x in done))
     ax[0].set(xlabel="steps per cycle", ylabel="fatigue life N_f", title="life (standard jumps; open: other jumps)")
     ax[0].legend(fontsize=7)
     ax[1].axhspan(0.98, 1.02, color="grey", alpha=0.2)
@@ -147,6 +182,11 @@ def main(outdir: Path, quick: bool = False) -> dict:
     records = run_sweep(fatigue_case, cases(monotonic["P_max"], checkpoints, quick), outdir / f"{NAME}_runs",
                         backend="serial", paths=CHECKPOINT, errors="record")
     runs = [{**r["params"], **r["result"]} for r in records if r["result"] is not None]
+    rate = None if quick else run_sweep(
+        rate_case, [{**BEAM, "P_max": monotonic["P_max"], "level": 0.86, "state_steps": 16000, "state_cycles": 40,
+                     "steps": [2000, 4000, 8000, 16000, 32000, 64000], "name": "rate_from_state",
+                     "checkpoint": str(checkpoints / "rate_state.pkl")}],
+        outdir / f"{NAME}_runs", backend="serial", paths=CHECKPOINT)[0]["result"]
     _deviations(runs)
     columns = ("level", "schedule", "steps_per_cycle", "life", "stopped", "life_error", "peak_ratio",
                "simulated_cycles", "seconds", "seconds_per_cycle")
@@ -162,7 +202,7 @@ def main(outdir: Path, quick: bool = False) -> dict:
     plot(runs, outdir / f"{NAME}.png")
     table = [{k: r[k] for k in ("level", "schedule_name", "steps_per_cycle", "life", "stopped", "life_error",
                                  "peak_ratio", "simulated_cycles", "seconds")} for r in runs]
-    result = {"monotonic": monotonic, "runs": table, "quick": quick,
+    result = {"monotonic": monotonic, "runs": table, "quick": quick, "rate_from_state": rate,
               "missing": [r["params"]["name"] for r in records if r["result"] is None]}
     write_json(outdir / f"{NAME}.json", result)
     lines = [f"P_max {monotonic['P_max']:.1f} N"]
@@ -170,6 +210,13 @@ def main(outdir: Path, quick: bool = False) -> dict:
               f"{r['life']} ({r['stopped']}), {'-' if r['life_error'] is None else format(r['life_error'], '+.1%')}"
               f" from the finest, δ_peak/δ_static {r['peak_ratio'] or float('nan'):.3f}, {r['simulated_cycles']} "
               f"simulated in {r['seconds']:.0f} s" for r in table]
+    if rate is not None:
+        finest = rate["rows"][-1]["damage_added"]
+        lines.append(f"damage added in two cycles from cycle {rate['cycles']} (E_f/E_f,0 "
+                     f"{rate['modulus_ratio']:.3f}):")
+        lines += [f"  {r['steps_per_cycle']:>5} steps/cycle: {r['damage_added']:.4e} "
+                  f"({r['damage_added'] / finest - 1:+.1%} from the finest), {r['bonds']} bonds"
+                  for r in rate["rows"]]
     result["summary"] = "\n".join(lines)
     return result
 
