@@ -6,10 +6,11 @@ the ratcheting extrapolated through each jump and one settling cycle after it (`
 ``settle=1``), the jump schedule in stages resumed from the run's checkpoint: ΔD_jump = 0.003 for the first ten
 simulated cycles, 0.01 for six more, then 0.02 ("standard"); the same schedule with every jump halved ("halved")
 and ΔD_jump = 0.003 throughout ("0.003"). Each run at 2000, 4000, 8000 and 16000 steps per cycle (the jump
-variants at 8000; at 0.86 also 32000 steps, and the jump variants at 16000), with the peak-deflection ratio δ_peak/δ_static of its first cycle beside the life (the
-quasi-static measure of :func:`~abrakit.experiments.cyclic.cyclic_bending`) and the life's deviation from the
-finest run of its level and schedule. Beside the lives, the damage two cycles add to one mid-life state (from the
-16000-steps run) at 2000 to 64000 steps per cycle: the per-cycle rate the life integrates.
+variants at 8000; at 0.86 also 32000 steps, and the jump variants at 16000), with the peak-deflection ratio
+δ_peak/δ_static of its first cycle beside the life (the quasi-static measure of
+:func:`~abrakit.experiments.cyclic.cyclic_bending`) and the life's deviation from the finest run of its level
+and schedule. Beside the lives, the damage two cycles add to one mid-life state (from the 16000-steps run) at
+2000 to 64000 steps per cycle: the per-cycle rate the life integrates.
 
 Every case is a resumable sweep record (``fatigue_convergence_runs/``: a finished case is read back, not
 recomputed) and every fatigue run checkpoints after each simulated cycle (``fatigue_convergence_checkpoints/``), so
@@ -23,6 +24,7 @@ writes ``fatigue_convergence.csv`` (one row per run), ``fatigue_convergence.json
 from __future__ import annotations
 
 import json
+import shutil
 import time
 import warnings
 from pathlib import Path
@@ -61,29 +63,38 @@ def _simulated(checkpoint: Path) -> int:
     return 0 if saved is None else len(saved["record"]["cycles"])
 
 
-def fatigue_case(params: dict) -> dict:
-    """One run: the schedule's stages, each a :func:`cyclic_bending` call resumed from the checkpoint, at most
-    ``time_limit`` seconds in all (the first cycle's peak-deflection ratio kept beside the checkpoint)."""
-    beam = four_point_beam(_spec(params), control="force")
-    checkpoint = Path(params["checkpoint"])
-    ratio_file = checkpoint.with_suffix(".ratio.json")
-    clock, bound, r = time.perf_counter(), 0, None
-    settings = {"steps_per_cycle": params["steps_per_cycle"], "plasticity": "extrapolated", "settle": 1,
-                "max_cycles": params["max_cycles"], "checkpoint": checkpoint}
-    for jump, count in params["schedule"]:
+def run_stages(beam, load: float, schedule: list, checkpoint: Path, time_limit: float | None = None, **settings):
+    """The schedule's stages ([ΔD_jump, simulated cycles], the last count None: open-ended), each a
+    :func:`cyclic_bending` call resumed from ``checkpoint``, at most ``time_limit`` seconds in all; yields each
+    call's result and stops after a call that ended for another reason than its stage's cycle count."""
+    clock, bound = time.perf_counter(), 0
+    for jump, count in schedule:
         bound = None if count is None else bound + count
         done = _simulated(checkpoint)
         if bound is not None and done >= bound:
             continue
-        left = params["time_limit"] - (time.perf_counter() - clock)
+        left = None if time_limit is None else max(time_limit - (time.perf_counter() - clock), 1.0)
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", RuntimeWarning)    # the ratio is recorded instead
-            r = cyclic_bending(beam, params["level"] * params["P_max"], jump=jump, time_limit=max(left, 1.0),
+            r = cyclic_bending(beam, load, jump=jump, checkpoint=checkpoint, time_limit=left,
                                max_simulated=None if bound is None else bound - done, **settings)
+        yield r
+        if r["stopped"] != "max_simulated":
+            return
+
+
+def fatigue_case(params: dict) -> dict:
+    """One run: the schedule's stages (:func:`run_stages`), at most ``time_limit`` seconds in all (the first
+    cycle's peak-deflection ratio kept beside the checkpoint)."""
+    beam = four_point_beam(_spec(params), control="force")
+    checkpoint = Path(params["checkpoint"])
+    ratio_file = checkpoint.with_suffix(".ratio.json")
+    r = None
+    for r in run_stages(beam, params["level"] * params["P_max"], params["schedule"], checkpoint,
+                        params["time_limit"], steps_per_cycle=params["steps_per_cycle"],
+                        plasticity="extrapolated", settle=1, max_cycles=params["max_cycles"]):
         if r["amplification"] is not None:
             write_json(ratio_file, {"ratio": 1.0 + r["amplification"]})
-        if r["stopped"] != "max_simulated":
-            break
     ratio = json.loads(ratio_file.read_text())["ratio"] if ratio_file.exists() else None
     return {"life": r["life"], "stopped": r["stopped"], "simulated_cycles": r["simulated_cycles"],
             "cycles": r["cycles"].tolist(), "measured_at": r["measured_at"].tolist(),
@@ -94,28 +105,27 @@ def fatigue_case(params: dict) -> dict:
 def rate_case(params: dict) -> dict:
     """The damage that two cycles add to one mid-life state, against the steps per cycle: the state is the
     ``state_steps`` run's after ``state_cycles`` simulated cycles (0.86 P_max, standard jumps), each resolution
-    then runs two cycles from it without a jump. It shows whether the per-cycle damage rate has converged where
-    the life has not."""
-    beam = four_point_beam(_spec(params), control="force")
+    then resumes a copy of it for two cycles without a jump. It shows whether the per-cycle damage rate has
+    converged where the life has not."""
     state = Path(params["checkpoint"])
     settings = {"plasticity": "extrapolated", "settle": 1, "quasi_static_check": False}
     load = params["level"] * params["P_max"]
-    for jump, bound in ((0.003, 10), (0.01, 16), (0.02, params["state_cycles"])):
-        done = _simulated(state)
-        if done < bound:
-            cyclic_bending(beam, load, steps_per_cycle=params["state_steps"], jump=jump, checkpoint=state,
-                           max_simulated=bound - done, **settings)
+    *first, (last_jump, _) = SCHEDULES["standard"]
+    schedule = [*first, [last_jump, params["state_cycles"] - sum(count for _, count in first)]]
+    for _ in run_stages(four_point_beam(_spec(params), control="force"), load, schedule, state,
+                        steps_per_cycle=params["state_steps"], **settings):
+        pass
     saved = load_state(state)
+    start = saved["sim"]["fatigue_bonds"].damage.copy()
     rows = []
     for n in params["steps"]:
-        beam = four_point_beam(_spec(params), control="force")
-        beam.sim.restore(saved["sim"])
-        if beam.rollers is not None:
-            beam.rollers.restore(saved["rollers"])
-        start = beam.sim.fatigue_bonds.damage.copy()
+        copy = state.with_name(f"rate_{n}.pkl")
+        shutil.copy(state, copy)
         clock = time.perf_counter()
-        r = cyclic_bending(beam, load, steps_per_cycle=n, jump=None, max_cycles=2, reference_cycles=1, **settings)
-        grown = beam.sim.fatigue_bonds.damage - start
+        r = cyclic_bending(four_point_beam(_spec(params), control="force"), load, steps_per_cycle=n, jump=None,
+                           checkpoint=copy, max_simulated=2, **settings)
+        grown = load_state(copy)["sim"]["fatigue_bonds"].damage - start
+        copy.unlink()
         rows.append({"steps_per_cycle": n, "damage_added": float(grown.sum()), "largest": float(grown.max()),
                      "bonds": int((grown > 1e-12).sum()), "deflection": float(r["deflection"][-1]),
                      "seconds": time.perf_counter() - clock})
