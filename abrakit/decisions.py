@@ -31,6 +31,7 @@ BOND = "tests/test_fatigue_bond.py::"
 BEND = "tests/test_experiments_bending.py::"
 AD = "tests/test_anisotropic_damage.py::"
 CB = "tests/test_crack_band.py::"
+ERO = "tests/test_scratch_erosion.py::"
 
 DECISIONS: tuple[Decision, ...] = (
     Decision("switch of the rate law, Eq. (2.112)", "|p| > r₂", "|p| > r₁",
@@ -184,7 +185,35 @@ DECISIONS: tuple[Decision, ...] = (
              ("tests/test_ductile_failure.py::test_johnson_cook_fracture_strain_of_4340_steel_and_the_cut_off",
               "tests/test_ductile_failure.py::test_finite_strain_hook_reaches_failure_at_the_fracture_strain",
               "tests/test_ductile_failure.py::test_with_the_cut_off_no_damage_grows_at_triaxiality_minus_0_4_for_"
-              "any_strain"), "scratch_to_wear", "choice"),
+              "any_strain"), "material_removal", "choice"),
+    Decision("removal in the scratch", "none described (Ch. 8); the ERVE damage is credited with the volume loss",
+             "staggered element erosion: after a converged increment, an intact element whose nonlocal ductile "
+             "damage D̄ (bell-shaped average over the intact elements within ℓ = 1 µm) reaches 1 leaves the "
+             "stiffness (a residual spring 10⁻⁶ E), the contact (its surface nodes, once all their elements are "
+             "eroded) and enters the volume budget's removed term; the next increment re-equilibrates",
+             "an implicit scene cannot delete elements inside Newton; the nonlocal length stops the removal from "
+             "following one element row; ℓ = 1 µm is half the seed's depth, so a 2 µm groove can shed a layer, and "
+             "is resolved by the meshes the map uses",
+             (ERO + "test_the_step_erodes_the_elements_that_failed_and_releases_their_stored_energy",
+              ERO + "test_eroded_elements_are_left_out_of_the_nonlocal_average",
+              ERO + "test_a_cutting_scratch_erodes_elements_and_keeps_its_budget_closed",
+              "benchmarks/bench_scratch_removal.py"), "material_removal", "choice"),
+    Decision("the f_ab that feeds Eq. (8.13)", "Eq. (8.5) on one mid-length cross-section read with the tip in "
+             "contact (Sec. 8.4)",
+             "the removal fraction: the rate of removed volume over the rate of groove volume along the steady "
+             "slide (SteadyRates.removal_fraction); the seed's reading is kept under its own name (seed_f_ab)",
+             "Eq. (8.5) counts every groove volume that is not in the shoulders as worn, including the elastic "
+             "compaction of the wake and the prow, which no wear test weighs",
+             (ERO + "test_the_removal_fraction_is_the_removed_rate_over_the_groove_rate",), "material_removal",
+             "ambiguity"),
+    Decision("the force on a G65 grain", "2 N on every grain (the single scratch's), 1.03·10⁴ grains in contact",
+             "the wheel's Hertz pressure over the contact zone, shared over the seed's N_c grains one per cell, "
+             "summing to the procedure's force; each grain's plastic contact F = H π a²/2 with H the scratch "
+             "scene's own mean contact pressure",
+             "2 N on each of 10⁴ grains is 160 times the test's 130 N",
+             ("tests/test_g65.py::test_the_grain_forces_share_the_wheels_force_by_its_hertz_pressure",
+              "tests/test_g65.py::test_the_balanced_loss_is_the_grains_grooves_at_their_own_forces"),
+             "material_removal", "choice"),
     Decision("stick/slip chatter of the scratch's contact nodes", "silent (Abaqus' penalty contact)",
              "a node that switches stick <-> slip (or reverses its slip) twice in one increment slips along its "
              "last slip direction for the rest of it (|t_T| = μp); the held nodes' share of the Coulomb force is "

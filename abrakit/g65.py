@@ -37,7 +37,8 @@ import numpy as np
 from abrakit.validation import check_number_fields, check_option, check_positive, check_range, number_arguments
 from abrakit.wear import contacting_particles, wheel_surface_speed
 
-__all__ = ["G65Standard", "contact_zone", "sand_volume_flow", "g65_bounds"]
+__all__ = ["G65Standard", "contact_zone", "sand_volume_flow", "g65_bounds", "grain_forces", "balanced_loss",
+           "STEEL_CONTACT_PRESSURE"]
 
 MM3 = 1e-9
 """One cubic millimetre in m³."""
@@ -216,3 +217,78 @@ def g65_bounds(rate: float, grain, contact_area: float, grain_force: float = 2.0
             "grains": grains, "grain_load": grain_load, "hardness": hardness, "shared_groove": shared_groove,
             "load_limited": grains["load"] * per_grain * duration / MM3,
             "load_shared": grains["seed"] * per_grain * shared_groove / grain.A_g * duration / MM3}
+
+
+# ---- the load balanced over the grains ---------------------------------------------------------------------------
+
+STEEL_CONTACT_PRESSURE = 3.23e9
+"""The St-52 block's mean contact pressure under a sliding sphere, Pa: F_N / (π a²/2) with a = √(2Rd − d²), the
+front half of the footprint carrying the load; 0.994 N on the seed's scene (R = 50 µm, d = 2 µm, finite strain,
+F-bar, default mesh, the stored run ``scratch_steady/default_fbar``). The hardness of :func:`balanced_loss`: the
+scene's own number, nothing fitted to a wear test (Tabor's 3 σ at 8 % strain would give 1.3 GPa)."""
+
+
+@dataclass(frozen=True)
+class BalancedLoss:
+    """The G65 loss with the wheel's force shared over the grains in its contact (:func:`balanced_loss`); SI units.
+
+    forces: every grain's force [N] (they sum to the procedure's force); depth_ratio: each grain's degree of
+    penetration D_p = a/(2R) of its plastic contact; groove_area: A_g of each [m²]; removal: f_ab of each (the
+    removal map at its D_p); rate: Σ f_ab A_g v_t [m³/s]; loss: over the procedure [m³] and ``loss_mm3``."""
+
+    forces: np.ndarray
+    depth_ratio: np.ndarray
+    groove_area: np.ndarray
+    removal: np.ndarray
+    rate: float
+    loss: float
+    procedure: str
+
+    @property
+    def loss_mm3(self) -> float:
+        return self.loss / MM3
+
+
+def grain_forces(D: float, force: float = 130.0, standard: G65Standard = ASTM_G65_STANDARD) -> np.ndarray:
+    """The force on every grain of diameter ``D`` [m] in the wheel's contact under ``force`` [N], [N].
+
+    The grains sit on the seed's square share of the face, N_c = 0.9 D⁻² (Eq. 8.7), one per cell of side
+    s = D/√0.9 over the contact zone of :func:`contact_zone` (length 2b along the wheel's travel, the wheel's width
+    across); each carries the Hertz pressure p(x) = p₀ √(1 − x²/b²) of its cell's centre over the cell, rescaled by
+    one factor so that the forces sum to ``force`` exactly (the discrete cells miss the ends of the ellipse)."""
+    D, force = check_positive("D", D), check_positive("force", force)
+    zone = contact_zone(force, standard)
+    b, width = 0.5 * zone["length"], zone["width"]
+    cell = D / np.sqrt(float(contacting_particles(1.0)))           # N_c = 0.9 D^-2: one grain per s^2
+    n_x, n_y = max(1, int(np.floor(2.0 * b / cell))), max(1, int(np.floor(width / cell)))
+    x = (np.arange(n_x) + 0.5) * (2.0 * b / n_x) - b
+    pressure = np.sqrt(np.clip(1.0 - (x / b) ** 2, 0.0, None))
+    per_row = force * pressure / (n_y * pressure.sum())
+    return np.repeat(per_row, n_y)
+
+
+def balanced_loss(D: float, hardness: float, removal, procedure: str = "A",
+                  standard: G65Standard = ASTM_G65_STANDARD) -> BalancedLoss:
+    """The G65 volume loss of grains of diameter ``D`` [m] with the load balanced (:func:`grain_forces`).
+
+    Each grain, a rounded quartz grain of tip radius R = D/2, sits in the steel at the plastic contact of its own
+    force F: F = H π a²/2 (the front half of the contact carries it, Bowden and Tabor), so a = √(2F/(πH)),
+    D_p = d/a = a/(2R) and A_g = :func:`plastic_groove_area`; ``hardness`` H [Pa] is the steel's contact pressure.
+    ``removal(D_p) -> f_ab`` is the removal map (the share of the groove that leaves as debris, from the eroding
+    scratch); every grain slides at the wheel's speed, so the rate is Σ f_ab A_g v_t (Eq. 8.13–8.14 summed over the
+    grains in the contact, not scaled from one). Nothing in it is fitted to a wear measurement."""
+    H = check_positive("hardness", hardness)
+    if not callable(removal):
+        raise TypeError(f"removal must be a callable D_p -> f_ab (the removal map), got {type(removal).__name__}")
+    force = PROCEDURES[check_option("procedure", procedure, tuple(PROCEDURES))].force
+    forces = grain_forces(D, force, standard)
+    radius = 0.5 * D
+    a = np.sqrt(2.0 * forces / (np.pi * H))
+    depth_ratio = a / (2.0 * radius)
+    groove = np.asarray(plastic_groove_area(forces, radius, H), dtype=float)
+    f_ab = np.asarray(removal(depth_ratio), dtype=float)
+    if f_ab.shape != depth_ratio.shape or not np.all(np.isfinite(f_ab)) or np.any((f_ab < 0) | (f_ab > 1)):
+        raise ValueError("removal(D_p) must give one f_ab in [0, 1] per grain")
+    rate = float(np.sum(f_ab * groove) * standard.wheel_speed)
+    return BalancedLoss(forces, depth_ratio, groove, f_ab, rate, rate * procedure_duration(procedure, standard),
+                        procedure)

@@ -67,10 +67,11 @@ def ploughing_friction(mu: float, R: float, d: float) -> float:
     return mu + (2 / math.pi) * (k * k * math.asin(1 / k) - math.sqrt(k * k - 1))
 
 
-def run_or_load(outdir: Path, name: str, scene: ScratchScene, partial: bool = False) -> Path:
-    """Run ``scene`` into ``outdir/scratch_steady/name`` unless a finished run of the same scene is there
+def run_or_load(outdir: Path, name: str, scene: ScratchScene, partial: bool = False,
+                study: str = "scratch_steady") -> Path:
+    """Run ``scene`` into ``outdir/<study>/name`` unless a finished run of the same scene is there
     (``partial``: also accept the increments an unfinished run has written so far)."""
-    folder = outdir / "scratch_steady" / name
+    folder = outdir / study / name
     marker = folder / "scene.txt"
     same = marker.exists() and same_physics(marker.read_text(), scene)
     if marker.exists() and not same and (folder / "u.npy").exists():
@@ -78,16 +79,17 @@ def run_or_load(outdir: Path, name: str, scene: ScratchScene, partial: bool = Fa
                            "delete the folder to recompute it: a finished run is never overwritten")
     if same and (
             (folder / "u.npy").exists() or (partial and (folder / "forces.csv").exists())):
-        print(f"[steady] {name}: stored", flush=True)
+        print(f"[{study}] {name}: stored", flush=True)
         return folder
-    print(f"[steady] {name}: {scene.kinematics} strain, d = {scene.depth * 1e3:g} um, R = "
+    print(f"[{study}] {name}: {scene.kinematics} strain, d = {scene.depth * 1e3:g} um, R = "
           f"{scene.indenter.radius * 1e3:g} um, slide {scene.slide * 1e3:g} um", flush=True)
     folder.mkdir(parents=True, exist_ok=True)
     marker.write_text(repr(scene))                      # first: the increments written so far belong to it
-    result = run_scratch(scene, output=folder, vtu_every=0)
+    result = run_scratch(scene, output=folder, vtu_every=0, resume=True)     # an interrupted run goes on
     np.save(folder / "u.npy", result.u)
-    np.savez(folder / "state.npz", alpha_p=result.state["alpha_p"], J=result.state.get("J", np.ones(1)))
-    print(f"[steady]   {result.wall_time:.0f} s, F_N = {result.mean_normal_force:.3f} N", flush=True)
+    np.savez(folder / "state.npz", **{k: result.state[k] for k in ("alpha_p", "J", "ductile", "eroded")
+                                      if k in result.state})
+    print(f"[{study}]   {result.wall_time:.0f} s, F_N = {result.mean_normal_force:.3f} N", flush=True)
     return folder
 
 

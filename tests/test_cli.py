@@ -34,6 +34,7 @@ CLAIMS = {
     "scratch": ("|t_T|/p = 0.1000, slip", "stick", "Hertz", "finite strain with F-bar", "f_ab = ", *TRANSIENT),
     "scratch_volume": ("closure", "small strain", "finite strain"),
     "scratch_to_wear": ("x 1e-7 m3/s", "seed's grain", "f_ab = ", *TRANSIENT),
+    "material_removal": ("eps_f = 1.747", "inf (eta = -0.4)", "130.0 N", "0 mm3 if single passes remove nothing"),
     "fatigue": ("closed form", "cycle jump", "paper: 2008"),
     "four_point_bending": ("Eq. (44)", "Timoshenko", "Euler-Bernoulli"),
 }

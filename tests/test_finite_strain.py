@@ -278,6 +278,51 @@ def test_fbar_keeps_the_element_volume_and_is_plain_total_lagrangian_for_homogen
                        rtol=1e-10, atol=1e-8)
 
 
+def test_plain_gradient_elements_are_total_lagrangian_may_invert_and_keep_the_tangent_exact():
+    """Elements switched to the plain gradient (eroded material) take F = I + ∇u and the plain force; an inverted
+    one raises nothing while an inverted F-bar element does; the tangent stays the derivative of the force."""
+    kin = fbar_kinematics()
+    plain_kin = Kinematics.from_basis(kin.basis, finite_strain=True)
+    asm = Assembler(kin)
+    rng = np.random.default_rng(4)
+    u = 0.05 * rng.standard_normal(kin.ndof)
+    mask = np.zeros(kin.nel, dtype=bool)
+    mask[[1, 6]] = True
+    kin.use_plain_gradient(mask)
+    F, F_plain = kin.strain(u).reshape(kin.nel, -1, 9), plain_kin.strain(u).reshape(kin.nel, -1, 9)
+    assert np.allclose(F[mask], F_plain[mask], rtol=1e-14) and not np.allclose(F[~mask], F_plain[~mask])
+    if HAVE_NUMBA:                                   # the compiled and the NumPy F-bar state agree on the mask
+        numpy_state = kin.fbar_state(u, compiled=False)
+        kin.use_plain_gradient(mask)
+        for a, b in zip(numpy_state, kin.fbar_state(u, compiled=True), strict=True):
+            assert np.allclose(a, b, rtol=1e-12, atol=1e-12)
+    c = 1e-3 * 210000.0
+    tangent = np.broadcast_to(c * np.eye(9), (kin.nel, kin.nqp, 9, 9)).copy()
+
+    def force(v):
+        return asm.internal_force(c * (kin.strain(v) - np.eye(3).ravel()), v)
+
+    K = asm.tangent(tangent, u, c * (kin.strain(u) - np.eye(3).ravel())).toarray()
+    direction = rng.standard_normal(kin.ndof)
+    h = 1e-7
+    fd = (force(u + h * direction) - force(u - h * direction)) / (2 * h)
+    assert np.abs(K @ direction - fd).max() <= 1e-6 * np.abs(fd).max()
+    p = kin.basis.mesh.p
+    corner = int(np.flatnonzero(np.all(p == 0.0, axis=0))[0])            # the mesh's corner: in one element only
+    owner = int(np.flatnonzero(np.any(kin.basis.mesh.t == corner, axis=0))[0])
+    crushed = np.zeros(kin.ndof)
+    crushed[kin.basis.nodal_dofs[:, corner]] = 0.7                     # past the element's opposite corner
+    only = np.zeros(kin.nel, dtype=bool)
+    only[owner] = True
+    kin.use_plain_gradient(only)
+    assert np.linalg.det(kin.strain(crushed).reshape(kin.nel, -1, 3, 3)[owner]).min() < 0   # inverted, no error
+    kin.use_plain_gradient(np.zeros(kin.nel, dtype=bool))
+    with pytest.raises(FloatingPointError, match="inverted"):
+        kin.strain(crushed)
+    with pytest.raises(ValueError, match="elements"):
+        kin.use_plain_gradient(np.ones(3, dtype=bool))
+
+
 def test_fbar_is_refused_in_plane_strain_and_needs_the_displacement():
     axis = np.linspace(0.0, 1.0, 3)
     with pytest.raises(ValueError, match="3D"):

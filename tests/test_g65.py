@@ -73,3 +73,58 @@ def test_table_8_4_against_the_real_test():
     assert b["load_shared"] * g65.MM3 < high < b["load_limited"] * g65.MM3
     with pytest.raises(ValueError, match="rate"):
         g65.g65_bounds(-1.0, wear.GRAIN_100UM, wear.G65_CONTACT_AREA)
+
+
+@pytest.mark.parametrize("D", [212e-6, 256e-6, 300e-6])
+def test_the_grain_forces_share_the_wheels_force_by_its_hertz_pressure(D):
+    """The forces of the grains in the contact sum to the procedure's 130 N; the grains at the middle of the
+    contact carry the Hertz peak p₀ = (4/π) p_mean over their cell (within the cells' discretisation), those at
+    the ends almost nothing; their count is the seed's N_c A_c (Eq. 8.7) over the contact zone."""
+    forces = g65.grain_forces(D)
+    zone = g65.contact_zone()
+    assert forces.sum() == pytest.approx(130.0, rel=1e-12)
+    cell = D**2 / 0.9
+    assert forces.size == pytest.approx(zone["area"] / cell, rel=0.05)
+    assert forces.max() == pytest.approx(4.0 / np.pi * zone["mean_pressure"] * cell, rel=0.05)
+    assert forces.min() < 0.3 * forces.max()
+    assert np.all(forces > 0)
+
+
+def test_the_balanced_loss_is_the_grains_grooves_at_their_own_forces():
+    """Every groove removed (f_ab = 1): the loss is Σ A_g v_t t with A_g of each grain's force; no removal:
+    nothing is lost; D_p = d/a with d = a²/(2R) of the plastic contact F = H π a²/2."""
+    D, H = 256e-6, 3.2e9
+    full = g65.balanced_loss(D, H, np.ones_like)
+    forces = g65.grain_forces(D)
+    a = np.sqrt(2 * forces / (np.pi * H))
+    assert np.allclose(full.depth_ratio, (a**2 / D) / a, rtol=1e-12)
+    expected = np.sum(g65.plastic_groove_area(forces, D / 2, H)) * g65.ASTM_G65_STANDARD.wheel_speed * 1800.0
+    assert full.loss == pytest.approx(expected, rel=1e-12) and full.loss_mm3 == pytest.approx(expected / 1e-9)
+    assert g65.balanced_loss(D, H, np.zeros_like).loss == 0.0
+    assert full.depth_ratio.max() < 0.02                 # a G65 grain's share plows: D_p of order 10^-2 and below
+
+
+def test_the_balanced_loss_refuses_bad_input_by_name():
+    with pytest.raises(ValueError, match="hardness"):
+        g65.balanced_loss(256e-6, -1.0, np.zeros_like)
+    with pytest.raises(TypeError, match="removal"):
+        g65.balanced_loss(256e-6, 3e9, 0.1)
+    with pytest.raises(ValueError, match="removal"):
+        g65.balanced_loss(256e-6, 3e9, lambda D_p: 2.0 * np.ones_like(D_p))
+    with pytest.raises(ValueError, match="procedure"):
+        g65.balanced_loss(256e-6, 3e9, np.zeros_like, procedure="Z")
+    with pytest.raises(ValueError, match="D"):
+        g65.grain_forces(0.0)
+
+
+def test_the_steel_contact_pressure_is_the_stored_seed_scenes():
+    """STEEL_CONTACT_PRESSURE is F_N/(π a²/2) of the stored seed scene (skipped where the run is not stored)."""
+    import json
+    import pathlib
+    stored = pathlib.Path(__file__).parents[1] / "benchmarks/results/scratch_steady/default_fbar/summary.json"
+    if not stored.exists():
+        pytest.skip("the seed scene's run is not stored")
+    summary = json.loads(stored.read_text())
+    R, d = summary["R_um"] * 1e-6, summary["d_um"] * 1e-6
+    pressure = summary["mean_normal_force_N"] / (np.pi * (2 * R * d - d**2) / 2)
+    assert g65.STEEL_CONTACT_PRESSURE == pytest.approx(pressure, rel=5e-3)

@@ -26,7 +26,7 @@ PLUMBING = ("io", "reproduction", "decisions")
 """Modules of the package that are no chapter but that the book may import by full name (files, stored results,
 the decision log); their ``__all__`` says what."""
 
-PUBLIC_NAMES = 238
+PUBLIC_NAMES = 243
 """The names the twelve faces list, in all (``sum(len(abrakit.<face>.__all__))``); the surface is recorded here, so
 a change of it is a change of this number."""
 

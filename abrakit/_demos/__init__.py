@@ -32,6 +32,7 @@ from .continuum import (
 )
 from .wear_chain import (
     demo_contacting,
+    demo_material_removal,
     demo_scratch,
     demo_scratch_to_wear,
     demo_scratch_volume,
@@ -59,6 +60,7 @@ DEMOS: dict[str, Callable[[], str]] = {
     "scratch": demo_scratch,
     "scratch_volume": demo_scratch_volume,
     "scratch_to_wear": demo_scratch_to_wear,
+    "material_removal": demo_material_removal,
     "fatigue": demo_fatigue,
     "four_point_bending": demo_four_point_bending,
 }

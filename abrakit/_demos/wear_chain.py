@@ -210,3 +210,29 @@ def demo_scratch_to_wear() -> str:
     lines.append(f"Table 8.4, homogeneous D = 100 um: {wear.TABLE_8_4[0][2] * 1e7:.2f} x 1e-7 m3/s; "
                  + TRANSIENT.format(slide=r.scene.slide * 1e3))
     return "\n".join(lines)
+
+
+def demo_material_removal() -> str:
+    """The removal model at a material point, and the G65 loss with the wheel's force shared over its grains."""
+    from abrakit import g65
+    from abrakit.materials.ductile_failure import JohnsonCookFailure
+
+    criterion = JohnsonCookFailure()
+    eps = criterion.fracture_strain(np.array([1.0 / 3.0, 0.0, -0.4]))
+    D = criterion.update(0.0, np.full(3, 0.5), np.array([np.diag([300.0, 0.0, 0.0]),
+                                                          [[0.0, 200.0, 0.0], [200.0, 0.0, 0.0], [0.0, 0.0, 0.0]],
+                                                          np.diag([-500.0, -100.0, -100.0])]))
+    lines = ["Material removal (Ch. 8, beyond the seed): Johnson-Cook 4340 steel, D = sum d(eps_p)/eps_f(eta), "
+             "no damage for eta <= -1/3",
+             f"eps_f = {eps[0]:.3f} (uniaxial tension), {eps[1]:.3f} (shear), {eps[2]:g} (eta = -0.4); "
+             f"D after eps_p = 0.5: {D[0]:.3f}, {D[1]:.3f}, {D[2]:g}"]
+    grain, hardness = 256e-6, g65.STEEL_CONTACT_PRESSURE
+    forces = g65.grain_forces(grain)
+    none = g65.balanced_loss(grain, hardness, np.zeros_like)
+    every = g65.balanced_loss(grain, hardness, np.ones_like)
+    lines += [f"G65, {forces.size} grains of D = {grain * 1e6:.0f} um share the wheel's 130 N: {forces.sum():.1f} N, "
+              f"{forces.min() * 1e3:.1f}-{forces.max() * 1e3:.1f} mN each, D_p = "
+              f"{every.depth_ratio.min():.4f}-{every.depth_ratio.max():.4f} (plowing)",
+              f"Procedure A loss: {none.loss_mm3:g} mm3 if single passes remove nothing, {every.loss_mm3:.0f} mm3 if "
+              "every groove were cut out (measured on steels: 10-1000 mm3)"]
+    return "\n".join(lines)

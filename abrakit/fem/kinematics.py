@@ -350,6 +350,9 @@ class FBarKinematics(TotalLagrangianKinematics):
     with p = vec P, s = F : P, X = Gᵀ p + (s/3) h, c_e = ∫ α s / 3 dV_0, D the derivative of vec F⁻ᵀ by vec F,
     M_e = ∫ J Gᵀ (vec F⁻ᵀ ⊗ vec F⁻ᵀ + D) G dV_0 / (V_e J̄). Checked against finite differences of the force.
     3D only (plane strain would need F_33 in the average).
+
+    :meth:`use_plain_gradient` switches F-bar off in selected elements (eroded material in the scratch): they take
+    F = I + ∇u with the plain total Lagrangian force and tangent, and they may invert (no det F check there).
     """
 
     def __post_init__(self):
@@ -357,6 +360,32 @@ class FBarKinematics(TotalLagrangianKinematics):
         if self.dim != 3:
             raise ValueError("F-bar kinematics are implemented for 3D meshes only")
         object.__setattr__(self, "_memo", [None, None])
+        object.__setattr__(self, "_plain", [np.zeros(self.nel, dtype=bool)])
+
+    def use_plain_gradient(self, elements: np.ndarray) -> None:
+        """The elements flagged in ``elements`` ((nel,) bool) take the plain gradient F = I + ∇u from now on
+        (class docstring); all others keep F-bar."""
+        elements = np.asarray(elements, dtype=bool)
+        if elements.shape != (self.nel,):
+            raise ValueError(f"elements must flag every element, shape ({self.nel},), got {elements.shape}")
+        self._plain[0] = elements.copy()
+        self._memo[0] = self._memo[1] = None
+
+    @property
+    def plain(self) -> np.ndarray:
+        """The elements on the plain gradient, (nel,) bool (:meth:`use_plain_gradient`)."""
+        return self._plain[0]
+
+    def _with_plain(self, state: FBarState) -> FBarState:
+        """``state`` with α = 1, m = h = 0 in the plain elements (the F-bar terms vanish there), after the det F
+        check of the others."""
+        plain = self.plain
+        checked = state.J[~plain]
+        if checked.size and not checked.min() > 0.0:
+            raise FloatingPointError(f"det F = {checked.min():.3g} <= 0: an element is inverted (cut the step back)")
+        if plain.any():
+            state.alpha[plain], state.m[plain], state.h[plain] = 1.0, 0.0, 0.0
+        return state
 
     @cached_property
     def gradient_operator(self) -> np.ndarray:
@@ -375,16 +404,17 @@ class FBarKinematics(TotalLagrangianKinematics):
             return state
         F = TotalLagrangianKinematics.strain(self, u).reshape(self.nel, self.nqp, 3, 3)
         J = np.linalg.det(F)
-        if np.any(J <= 0.0):
-            raise FloatingPointError(f"det F = {J.min():.3g} <= 0: an element is inverted (cut the step back)")
-        F_inv = np.linalg.inv(F)
+        if np.any(J[~self.plain] <= 0.0):
+            raise FloatingPointError(f"det F = {J[~self.plain].min():.3g} <= 0: an element is inverted (cut the step "
+                                     "back)")
+        F_inv = np.linalg.inv(np.where((J == 0.0)[..., None, None], np.eye(3), F))
         volume = self.dx.sum(axis=1)
         J_bar = np.einsum("eq,eq->e", J, self.dx) / volume
         alpha = np.cbrt(J_bar[:, None] / J)
         Gtg = self.gradient_transpose(np.swapaxes(F_inv, -1, -2))
         m = np.einsum("eq,eqb->eb", J * self.dx, Gtg) / (volume * J_bar)[:, None]
         h = m[:, None, :] - Gtg
-        state = FBarState(F, F_inv, J, J_bar, alpha, m, h, Gtg)
+        state = self._with_plain(FBarState(F, F_inv, J, J_bar, alpha, m, h, Gtg))
         memo[0], memo[1] = np.array(u, copy=True), state
         return state
 
@@ -395,9 +425,9 @@ class FBarKinematics(TotalLagrangianKinematics):
         m, h, Gtg = np.empty((nel, nbf)), np.empty((nel, nqp, nbf)), np.empty((nel, nqp, nbf))
         u_e = np.ascontiguousarray(np.asarray(u, dtype=float)[self.element_dofs])
         smallest = _fbar_kernels.fbar_state(self._grad_N_c, self._dx_c, u_e, F, F_inv, J, J_bar, alpha, m, h, Gtg)
-        if not smallest > 0.0:
+        if not self.plain.any() and not smallest > 0.0:
             raise FloatingPointError(f"det F = {smallest:.3g} <= 0: an element is inverted (cut the step back)")
-        return FBarState(F, F_inv, J, J_bar, alpha, m, h, Gtg)
+        return self._with_plain(FBarState(F, F_inv, J, J_bar, alpha, m, h, Gtg))
 
     @cached_property
     def _grad_N_c(self) -> np.ndarray:
@@ -432,6 +462,17 @@ class FBarKinematics(TotalLagrangianKinematics):
         (default: where numba is installed) by :func:`abrakit.fem._fbar_kernels.element_tangents` (5× faster on
         the scratch), else vectorised NumPy (same numbers to round-off, tested). ``elements`` (indices): the
         tangents of these elements only, ``(n, nbf, nbf)``, with ``tangent`` and ``stress`` given for them alone."""
+        K = self._fbar_tangents(tangent, stress, u, compiled, elements)
+        selected = np.arange(self.nel) if elements is None else np.asarray(elements)
+        plain = np.flatnonzero(self.plain[selected])
+        if plain.size:                               # the plain elements: ∫ Gᵀ A G dV_0
+            G = TotalLagrangianKinematics.B(self, selected[plain])
+            AG = np.matmul(tangent[plain] * self.dx[selected[plain]][..., None, None], G)
+            n = plain.size
+            K[plain] = np.matmul(G.reshape(n, -1, self.nbf).transpose(0, 2, 1), AG.reshape(n, -1, self.nbf))
+        return K
+
+    def _fbar_tangents(self, tangent, stress, u, compiled, elements):
         st = self.fbar_state(u)
         grad_N, dx = self._grad_N_c, self._dx_c
         if elements is not None:

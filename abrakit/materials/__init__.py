@@ -10,6 +10,7 @@ from __future__ import annotations
 from .anisotropic_damage import SURFACES, AnisotropicSofteningDamage
 from .base import Material, MaterialResponse, finite_difference_tangent
 from .driver import cycles, drive, plane_strain_tension, pure_shear, ramp, uniaxial_strain, uniaxial_stress
+from .ductile_failure import JohnsonCookFailure
 from .elastic import LinearElastic
 from .finite_strain import LogStrainPlasticity
 from .model_one import ModelIDamage
@@ -33,6 +34,8 @@ __all__ = [
     "uniaxial_yield_stress", "uniaxial_hardening_modulus",
     # the material-point driver
     "ramp", "cycles", "drive", "uniaxial_stress", "uniaxial_strain", "pure_shear", "plane_strain_tension",
+    # ductile failure of the scratch's steel (material removal)
+    "JohnsonCookFailure",
     # strength statistics of seed 001
     "StrengthStatistics", "normal_cdf", "truncated_cdf", "weibull_cdf", "weibull_mean",
 ]

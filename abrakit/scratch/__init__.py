@@ -10,7 +10,8 @@
 * :mod:`~abrakit.scratch.scene` — the scene (block, mesh grading, tip, path, material) and its specimen;
 * :mod:`~abrakit.scratch.run` — the finite element run of a scene, :func:`run_scratch`, and its result;
 * :mod:`~abrakit.scratch.readouts` — the groove of a run and its volume balance;
-* :mod:`~abrakit.scratch.budget` — where the displaced volume goes, and the steady rates along the slide.
+* :mod:`~abrakit.scratch.budget` — where the displaced volume goes, and the steady rates along the slide;
+* :mod:`~abrakit.scratch.erosion` — material removal: elements eroded by the steel's ductile failure.
 
 Axes as in Fig. 8.1: top surface y = 0 with the block below, indentation along −y, sliding along +z, symmetry
 plane x = 0. Units: N, mm, MPa (µm values written as mm).
@@ -20,6 +21,7 @@ from __future__ import annotations
 
 from abrakit.scratch.budget import steady_rates
 from abrakit.scratch.contact import contact_response, initial_state
+from abrakit.scratch.erosion import Erosion
 from abrakit.scratch.groove import GrooveMetrics, groove_metrics
 from abrakit.scratch.hertz import hertz_sphere
 from abrakit.scratch.indenters import ConicalIndenter, SphericalIndenter
@@ -39,7 +41,7 @@ from abrakit.scratch.scene import (
 __all__ = [
     # the scene and its run
     "ScratchScene", "DEMO_SCENE", "MESH_LEVELS", "ST52", "TABLE_8_2", "build_specimen", "ScratchSpecimen",
-    "run_scratch", "ScratchResult",
+    "run_scratch", "ScratchResult", "Erosion",
     # the indenters and the contact law, Eq. (8.1)-(8.4)
     "SphericalIndenter", "ConicalIndenter", "contact_response", "initial_state",
     # the groove, Eq. (8.5)-(8.6), and where its volume goes

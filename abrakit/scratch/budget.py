@@ -20,11 +20,13 @@ they are fixed or slide in their own plane, as the symmetry plane does). The bud
 
     shoulders + prow + faces + removed − groove − sink = ∫ (J − 1) dV_0                       (closes exactly)
 
-holds for any displacement field, so ``residual`` measures round-off only. ``removed`` is the current volume
-∫ J dV_0 of the elements counted as removed (Model II's damage at its cap): wear debris. Removed material above
-y = 0 leaves the shoulders (behind the apex) or the prow (ahead of it); removed material below y = 0 deepens the
-groove or the sink; each split is by the quadrature points' current positions, so the identity above stays exact
-and Eq. (8.5) in these terms, f_ab = 1 − shoulders/groove, counts removed material as worn. Without removal
+holds for any displacement field, so ``residual`` measures round-off only. ``removed`` is the undeformed volume
+∫ dV_0 of the elements counted as removed (eroded, or Model II's damage at its cap): the material that left as
+wear debris, however the residual stiffness of an eroded element lets its neighbours squeeze it. Removed material
+above y = 0 leaves the shoulders (behind the apex) or the prow (ahead of it) with its current volume ∫ J dV_0;
+removed material below y = 0 deepens the groove or the sink; each split is by the quadrature points' current
+positions; ``volume_change`` is then ∫ (J − 1) dV_0 over the material that remains, so the identity above stays
+exact and Eq. (8.5) in these terms, f_ab = 1 − shoulders/groove, counts removed material as worn. Without removal
 ``removed`` is zero and the other terms are those of a plowing scratch. It is exact for trilinear hexahedra on
 an axis-parallel reference mesh: det(∂x/∂ξ) and y (x_ξ × x_η)_y are polynomials of degree ≤ 2 in each reference
 coordinate, which the 2 × 2 (× 2) Gauss rule integrates exactly.
@@ -157,14 +159,18 @@ def volume_budget(faces: BoundaryFaces, kinematics, points: np.ndarray, u: np.nd
         prow -= float(np.sum(v[up & front]))
         groove += float(np.sum(v[~up & ~front]))
         sink += float(np.sum(v[~up & front]))
-        removed_volume = float(np.sum(v))
+        removed_volume = k * float(np.sum(kinematics.dx[removed]))     # the material that left: its own volume
+        volume_change -= float(np.sum(v)) - removed_volume             # the debris' J − 1 is not the body's
     residual = shoulders + prow + face_flux + removed_volume - groove - sink - volume_change
     return VolumeBudget(groove, shoulders, prow, sink, face_flux, volume_change, residual, removed_volume)
 
 
 class SteadyRates(NamedTuple):
     """Growth of each budget term per unit slide over the steady part of a scratch (mm³/mm = mm², whole grain):
-    the cross-sections a long groove settles to. ``degree_of_wear`` = 1 − shoulders/groove is Eq. (8.5) in rates."""
+    the cross-sections a long groove settles to. ``removal_fraction`` = removed/groove is the f_ab the wear chain
+    takes (Eq. 8.13): the share of the groove that left as debris. ``degree_of_wear`` = 1 − shoulders/groove is
+    Eq. (8.5) in rates: it also counts the groove volume that went into elastic compaction, the prow and the
+    sink, none of which is wear."""
 
     groove: float
     shoulders: float
@@ -178,6 +184,10 @@ class SteadyRates(NamedTuple):
     @property
     def degree_of_wear(self) -> float:
         return 1.0 - self.shoulders / self.groove
+
+    @property
+    def removal_fraction(self) -> float:
+        return self.removed / self.groove
 
 
 @number_arguments

@@ -30,11 +30,15 @@ from abrakit.validation import check_finite
 
 
 def groove_section(specimen: ScratchSpecimen, u: np.ndarray, scene: ScratchScene, z: float | None = None):
-    """(:class:`~abrakit.scratch.groove.GrooveMetrics` or None, half :class:`~abrakit.scratch.groove.Profile`,
-    reason) of the spatial cross-section at ``z`` (default: mid-length of the scratch); the metrics are None
-    (and ``reason`` says why) where the profile has no groove."""
+    """(:class:`~abrakit.scratch.groove.GrooveMetrics` or None, half :class:`~abrakit.scratch.groove.Profile` or
+    None, reason) of the spatial cross-section at ``z`` (default: mid-length of the scratch); the metrics are None
+    (and ``reason`` says why) where the profile has no groove, the profile too where the deformed surface folds
+    along z (no spatial section exists)."""
     disp = u[np.asarray(specimen.basis.nodal_dofs)].T
-    profile = profile_from_surface_nodes(specimen.mesh.p.T, disp, scene.z_section if z is None else z)
+    try:                                      # a surface folded over itself (a chip, a lapped prow) has none
+        profile = profile_from_surface_nodes(specimen.mesh.p.T, disp, scene.z_section if z is None else z)
+    except ValueError as exc:
+        return None, None, str(exc)
     try:
         return groove_metrics(profile.x, profile.y, half=True, depth=scene.depth, tol=2e-3 * scene.depth), \
             profile, None

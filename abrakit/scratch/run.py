@@ -48,6 +48,7 @@ from abrakit.scratch.budget import VolumeBudget
 from abrakit.scratch.checkpoint import CHECKPOINT, load_scratch_checkpoint, save_scratch_checkpoint
 from abrakit.scratch.contact import penalty_from_stiffness
 from abrakit.scratch.contact_term import IndenterContact
+from abrakit.scratch.erosion import ErodingMaterial, ErosionStep, erosion_summary
 from abrakit.scratch.groove import GrooveMetrics, Profile, RemovedMaterial, removed_material
 from abrakit.scratch.indenters import ScratchPath
 from abrakit.scratch.readouts import element_damage, groove_section, removed_elements, surface_nodes_of
@@ -196,6 +197,7 @@ class ScratchResult:
     groove_loaded / groove_unloaded: :class:`~abrakit.scratch.groove.GrooveMetrics` of the mid-length section
     with the apex there / after unloading (None when not computed; ``notes`` say why), with their profiles;
     removed: :class:`~abrakit.scratch.groove.RemovedMaterial` near mid-length (damage runs), None otherwise;
+    erosion: eroded elements, released energy (N mm) and the largest element damage (erosion runs, else None);
     mean_normal_force / mean_tangential_force: means over the slide distance of its steady part (after one
     footprint diameter of travel; :func:`~abrakit.scratch.record.slide_mean`, robust to cutbacks); u, state: the
     final displacement and material state; solver_counts: the linear solver's counters (:data:`SOLVER_COUNTS`)
@@ -226,6 +228,7 @@ class ScratchResult:
     output: Path | None = None
     notes: list = field(default_factory=list)
     solver_counts: dict = field(default_factory=dict)
+    erosion: dict | None = None
 
     def summary(self) -> dict:
         """JSON-ready numbers of the run (µm and µm² for lengths and areas, N for forces)."""
@@ -255,6 +258,8 @@ class ScratchResult:
             out["removed_volume_um3"] = self.removed.volume * 1e9
             out["removed_area_um2"] = None if self.removed.area is None else self.removed.area * 1e6
             out["removed_elements"] = self.removed.count
+        if self.erosion is not None:
+            out["erosion"] = self.erosion
         return out
 
 
@@ -300,7 +305,10 @@ class _ScratchRun:
         self.specimen = specimen = build_specimen(scene)
         material = st52_material(scene.material, scene.damage, scene.damage_energy, scene.hardening)
         finite = scene.kinematics == "finite"
-        self.material = material = LogStrainPlasticity(material) if finite else material
+        material = LogStrainPlasticity(material) if finite else material
+        if scene.erosion is not None:
+            material = ErodingMaterial(material, scene.erosion.residual)
+        self.material = material
         c_N = penalty_from_stiffness(ST52["E"], specimen.top_layer, scene.penalty)
         self.contact = contact = IndenterContact(specimen.basis, scene.indenter, self.path.position, c_N=c_N,
                                                  mu=scene.mu)
@@ -309,19 +317,29 @@ class _ScratchRun:
         if np.any(scene.indenter.gap(contact.reference, self.path.position(0.0)).gap < -1e-12):
             raise ValueError("the indenter starts inside the block: some surface nodes lie inside the tip at tau = 0")
         self.converged_force = np.zeros(3)   # the tip force of the last converged increment (explicit rate limit)
-        self.removed_nodes = surface_nodes_of(specimen.mesh, contact.nodes) if scene.damage else None
+        removing = scene.damage or scene.erosion is not None
+        self.removed_nodes = surface_nodes_of(specimen.mesh, contact.nodes) if removing else None
         self.solver = scene_solver(specimen.basis, material, specimen.conditions, contact, newton=newton,
                                    linear_solver=linear_solver, inexact=inexact, loading=self.loading,
                                    bbar=scene.bbar, finite_strain=finite)
         self.out = Path(output) if output is not None else None
-        extra = (lambda st: {"effective_damage": material.effective_damage(st).mean(axis=1)}) if scene.damage else None
-        removed = removed_elements(material) if scene.damage else None
+        self.erosion = erosion = ErosionStep(scene.erosion, self.solver.kin, material, contact.symmetry_factor) \
+            if scene.erosion is not None else None
+        extra, removed = None, None
+        if scene.damage:
+            extra = lambda st: {"effective_damage": material.effective_damage(st).mean(axis=1)}   # noqa: E731
+            removed = removed_elements(material)
+        elif erosion is not None:
+            extra = lambda st: {"ductile_damage": erosion.element_damage(st),                      # noqa: E731
+                                "eroded": ErosionStep.removed(st).astype(float)}
+            removed = ErosionStep.removed
         self.recorder = ScratchRecorder(self.path, contact, self.solver.kin, output=self.out, vtu_every=vtu_every,
                                         extra_fields=extra, removed=removed)
         self.checkpoint = self.out / CHECKPOINT if self.out is not None else None
         self.checkpoint_every = checkpoint_every
         self.u = np.zeros(specimen.basis.N)
         self.state = material.initial_state((self.solver.kin.nel, self.solver.kin.nqp))
+        self.converged_state = self.state             # the state the erosion's damage update starts from
         self.iterations = self.cutbacks = 0
         self.tau_done, self.u_loaded, self.continuation, self.earlier = 0.0, None, None, 0.0
 
@@ -337,6 +355,12 @@ class _ScratchRun:
         work = -self.converged_force @ tip_move / self.contact.symmetry_factor
         return {"external_work": max(work, 0.0)}
 
+    def plain_gradient(self, state) -> None:
+        """Eroded elements leave F-bar for the plain gradient (they may invert: they carry only the residual
+        spring, :class:`~abrakit.fem.kinematics.FBarKinematics`)."""
+        if hasattr(self.solver.kin, "use_plain_gradient"):
+            self.solver.kin.use_plain_gradient(ErosionStep.removed(state))
+
     def save(self, u, state, tau: float, iterations: int, continuation=None) -> None:
         save_scratch_checkpoint(self.checkpoint, self.scene, u=u, state=state, tau=tau, recorder=self.recorder,
                                 contact=self.contact, iterations=iterations, cutbacks=self.cutbacks,
@@ -344,7 +368,12 @@ class _ScratchRun:
 
     def on_step(self, res) -> None:
         """After every converged increment: record it (and commit the contact), take removed material out of the
-        contact, save a checkpoint every ``checkpoint_every`` increments."""
+        contact, save a checkpoint every ``checkpoint_every`` increments. Erosion (staggered, first) erodes the
+        elements this increment failed, so that the record and the contact see them."""
+        if self.erosion is not None:
+            if self.erosion(self.converged_state, res.state).size:
+                self.plain_gradient(res.state)
+            self.converged_state = res.state
         self.recorder(res)
         self.converged_force = np.array(self.contact.forces.force, dtype=float)
         if self.removed_nodes is not None:                   # removed material (the audit's mask) leaves the contact
@@ -363,6 +392,9 @@ class _ScratchRun:
                                                                                "u_loaded"))
         self.iterations, self.cutbacks = saved["meta"]["iterations"], saved["meta"]["cutbacks"]
         self.continuation = saved["continuation"]
+        self.converged_state = self.state
+        if self.erosion is not None:
+            self.plain_gradient(self.state)
         self.recorder.restart(saved["meta"]["record"])
         self.earlier = self.recorder.rows[-1]["wall_time"] if self.recorder.rows else 0.0   # the calls before
         self.contact.restore(saved["arrays"], saved["meta"]["contact"])
@@ -442,7 +474,8 @@ class _ScratchRun:
             increments=len(self.recorder.rows), newton_iterations=self.iterations, cutbacks=self.cutbacks,
             budget=self.recorder.budget, linear_solver=getattr(self.solver.linear_solver, "name", "custom"),
             u=self.u, state=state, specimen=self.specimen, contact=self.contact, output=self.out,
-            notes=notes + solver_notes, solver_counts=counts)
+            notes=notes + solver_notes, solver_counts=counts,
+            erosion=None if self.erosion is None else erosion_summary(self.erosion, state))
 
 
 SEED_SCENE = ScratchScene()

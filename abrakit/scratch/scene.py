@@ -32,7 +32,7 @@ Example::
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, replace
+from dataclasses import dataclass, fields, replace
 from typing import NamedTuple
 
 import numpy as np
@@ -41,8 +41,16 @@ import skfem
 from abrakit.fem.boundary import Dirichlet
 from abrakit.fem.kinematics import vector_basis
 from abrakit.materials import LinearElastic, ModelIIDamage, VonMisesPlasticity
+from abrakit.scratch.erosion import Erosion
 from abrakit.scratch.indenters import ConicalIndenter, FineZone, ScratchPath, SphericalIndenter, check_path
-from abrakit.validation import check_number_fields, check_option, check_positive, check_range, number_arguments
+from abrakit.validation import (
+    check_instance,
+    check_number_fields,
+    check_option,
+    check_positive,
+    check_range,
+    number_arguments,
+)
 
 SPECIMEN = (0.1, 0.015, 0.2)
 """The seed's block, mm: full width (x), thickness (y), length along the scratch (z) = 100 × 15 × 200 µm."""
@@ -195,7 +203,9 @@ class ScratchScene:
     integration) loses about a third of the groove's volume to its kinematics and locks into a growing prow
     (book chapter "Where the groove goes"); end_faces: "fixed" (the seed: "the
     other surfaces of the specimen are fixed") or "free" (traction-free ends z = 0, L); hardening: the uniaxial
-    hardening slope H of the plastic material, MPa (St-52's 1000 MPa; 0 for perfect plasticity).
+    hardening slope H of the plastic material, MPa (St-52's 1000 MPa; 0 for perfect plasticity); erosion: an
+    :class:`~abrakit.scratch.erosion.Erosion` removes the elements whose ductile damage reaches 1 (finite strain,
+    plastic material, no Model II), None (the default) removes nothing.
     """
 
     indenter: SphericalIndenter | ConicalIndenter = SphericalIndenter(0.05)
@@ -219,6 +229,7 @@ class ScratchScene:
     kinematics: str = "finite"
     end_faces: str = "fixed"
     hardening: float = ST52["hardening"]
+    erosion: Erosion | None = None
 
     def __post_init__(self):
         check_number_fields(self)
@@ -232,6 +243,11 @@ class ScratchScene:
         check_option("kinematics", self.kinematics, ("small", "finite"))
         check_option("end_faces", self.end_faces, ("fixed", "free"))
         check_positive("hardening", self.hardening, allow_zero=True)
+        check_instance("erosion", self.erosion, Erosion, optional=True)
+        if self.erosion is not None and (self.kinematics != "finite" or self.material != "plastic" or self.damage):
+            raise ValueError("erosion needs kinematics='finite', material='plastic' and damage=False (the ductile "
+                             f"damage integrates the finite-strain plastic flow), got kinematics="
+                             f"{self.kinematics!r}, material={self.material!r}, damage={self.damage!r}")
         if isinstance(self.mesh, str):
             check_option("mesh", self.mesh, tuple(MESH_LEVELS))
         check_positive("size", self.size)
@@ -242,6 +258,12 @@ class ScratchScene:
         _ = self.path                               # a path the indenter cannot follow is refused here
         if self.depth >= self.size[1]:
             raise ValueError(f"depth {self.depth:g} mm must be smaller than the block's thickness {self.size[1]:g} mm")
+
+    def __repr__(self) -> str:
+        """The dataclass's repr without ``erosion=None``: the stored runs' fingerprints (``repr(scene)``) of the
+        scenes that remove nothing stay what they were before erosion existed."""
+        shown = [f for f in fields(self) if f.repr and not (f.name == "erosion" and self.erosion is None)]
+        return f"ScratchScene({', '.join(f'{f.name}={getattr(self, f.name)!r}' for f in shown)})"
 
     @property
     def mesh_spec(self) -> SpecimenMesh:
