@@ -6,7 +6,8 @@ length ℓ = :data:`LENGTH` (:mod:`abrakit.scratch.erosion`), at finite strain w
 volume)/(rate of groove volume) over the second half of the slide, by chords (:func:`chord`; the f_ab the wear
 chain takes), Eq. (8.5) on the
 mid-length section with the tip in contact (the seed's reading, which counts the compaction of the wake as wear),
-the degree of penetration D_p = d/a (a the tip's footprint radius at d), the eroded elements, the energy their
+the degree of penetration D_p = d/a (a the tip's footprint radius at d) and the attack angle at the footprint's
+rim (:func:`attack_angle`), the eroded elements and the slide positions where they went, the energy their
 erosion released, the budget's worst closure and the run time.
 
 Parts (every run kept in ``<outdir>/scratch_removal/<name>/``, reused by later calls with the same scene, so an
@@ -52,7 +53,9 @@ layer, and at least the top element layer of the meshes compared)."""
 DEPTH, SLIDE, BLOCK = 0.002, 0.03, (0.1, 0.015, 0.1)
 TIP_RADIUS = 0.005
 """Tip radius of the sphere-tipped cones (mm): a rounded quartz corner."""
-MESH_STUDY = ("default", "fine", "finer")
+MESH_STUDY = ("default", "fine")
+"""The mesh levels of the convergence study ("finer", 7020 elements, is left out: with ten indentation increments,
+after its contact chattered at five, its indentation alone had not finished after 20 minutes on two cores)."""
 MAP_MESH = "fine"
 DUCTILITY = (0.5, 0.25)
 """Factors on Johnson and Cook's ε_f (D₁ and D₂ scaled) of the ductility study: a steel of half and a quarter of
@@ -62,11 +65,14 @@ MAP_PENETRATIONS = {0.1: (0.1, 0.2, 0.3, 0.45), 0.5: (0.2, 0.3, 0.45)}
 """The spheres' D_p at each friction (D_p = 0.1 at μ = 0.5 left out: the μ = 0.1 point there removes nothing, and
 friction adds shear only where the tip already plows deep)."""
 MAP_ATTACK_ANGLES = (20.0, 30.0)
-CONTROL = {"cone30_mu0.5_finer": {"indent_steps": 10}, "sphere_Dp0.3_mu0.5": {"slide_step": 0.0005}}
-"""Increment control of the runs whose contact chattered at the default one (the finer mesh in its indentation,
-the sphere at D_p = 0.3 and μ = 0.5 after 7.6 µm of slide): more indentation increments, a slide step of h_z/8."""
+CONTROL = {"sphere_Dp0.3_mu0.5": {"slide_step": 0.0005},
+           **{f"cone30_mu0.5_fine_ductility{f:g}": {"indent_steps": 10} for f in (0.5, 0.25)}}
+"""Increment control of the runs whose contact chattered at the default one (the less ductile steels in their
+indentation, the sphere at D_p = 0.3 and μ = 0.5 after 7.6 µm of slide): more indentation increments, a slide
+step of h_z/8."""
 COLUMNS = ("name", "tip", "mesh", "mu", "R_um", "attack_deg", "D_p", "D_p_section", "elements", "wall_time_s",
-           "eroded", "erosion_energy_uJ", "rate_groove_um2", "rate_removed_um2", "removal_f_ab", "seed_f_ab",
+           "eroded", "erosion_energy_uJ", "rate_groove_um2", "rate_removed_um2", "removed_per_slide_um2",
+           "removal_f_ab", "seed_f_ab",
            "rate_f_ab", "max_damage", "worst_residual_rel", "finished")
 
 
@@ -111,7 +117,7 @@ def analyse(name: str, sc: ScratchScene, folder: Path) -> dict:
     tip = "sphere" if isinstance(sc.indenter, SphericalIndenter) else "cone"
     residual = np.max(np.abs(curves["V_residual"])) / max(np.max(curves["V_groove"]), 1e-300)
     return {"name": name, "tip": tip, "mesh": sc.mesh, "mu": sc.mu, "R_um": sc.indenter.radius * 1e3,
-            "attack_deg": 90.0 - sc.indenter.half_angle if tip == "cone" else np.nan,
+            "attack_deg": attack_angle(sc),
             "D_p": sc.depth / sc.footprint, "D_p_section": loaded.get("D_p", np.nan),
             "elements": summary.get("elements", np.nan),
             "wall_time_s": summary.get("wall_time_s", float(curves["wall_time"][-1])),
@@ -119,10 +125,21 @@ def analyse(name: str, sc: ScratchScene, folder: Path) -> dict:
             "erosion_energy_uJ": erosion.get("erosion_energy", np.nan) * 1e3,
             "rate_groove_um2": rates.groove * 1e6 if rates else np.nan,
             "rate_removed_um2": removed_rate * 1e6,
+            "removed_per_slide_um2": slide_mean_removal(curves) * 1e6,
+            "removal_events_um": removal_events(curves),
             "removal_f_ab": removed_rate / chord(curves, "V_groove"),
             "seed_f_ab": loaded.get("f_ab", np.nan), "rate_f_ab": rates.degree_of_wear if rates else np.nan,
             "max_damage": erosion.get("max_ductile_damage", np.nan), "worst_residual_rel": float(residual),
-            "finished": finished}
+            "finished": finished, "slide_reached_um": float(curves["slide"][sliding].max() * 1e3)
+            if sliding.any() else 0.0}
+
+
+def attack_angle(sc: ScratchScene) -> float:
+    """The tip's attack angle at the rim of its footprint, degrees: 90° − half-angle on a cone's flank, arcsin(a/R)
+    on a sphere (Challen and Oxley's angle of the wedge that meets the surface)."""
+    if isinstance(sc.indenter, SphericalIndenter):
+        return float(np.degrees(np.arcsin(min(sc.footprint / sc.indenter.radius, 1.0))))
+    return 90.0 - sc.indenter.half_angle
 
 
 def chord(curves: dict, column: str) -> float:
@@ -135,6 +152,23 @@ def chord(curves: dict, column: str) -> float:
     s, v = curves["slide"][sliding], curves[column][sliding]
     mid = int(np.searchsorted(s, 0.5 * s[-1]))
     return float((v[-1] - v[mid]) / (s[-1] - s[mid])) if s[-1] > s[mid] else float("nan")
+
+
+def slide_mean_removal(curves: dict) -> float:
+    """The volume removed while sliding over the slide length, mm² (transient included): the measure of the mesh
+    study, robust where the removal is a few element-sized events."""
+    sliding = np.flatnonzero(curves["phase"] == 1)
+    if sliding.size < 2:
+        return float("nan")
+    s, v = curves["slide"][sliding], curves["V_removed"]
+    start = v[sliding[0] - 1] if sliding[0] > 0 else 0.0
+    return float((v[sliding[-1]] - start) / s[-1]) if s[-1] > 0 else float("nan")
+
+
+def removal_events(curves: dict) -> list[float]:
+    """The slide positions (µm; negative: during the indentation, 0) of the increments that removed material."""
+    grew = np.flatnonzero(np.diff(curves["V_removed"], prepend=0.0) > 0.0)
+    return [float(curves["slide"][i] * 1e3) if curves["phase"][i] >= 1 else 0.0 for i in grew]
 
 
 def crossing(D_p: np.ndarray, f_ab: np.ndarray, level: float = 0.1) -> float:
@@ -164,10 +198,12 @@ def main(outdir: Path = RESULTS, only: str | None = None, stored_only: bool = Fa
     rows = {name: analyse(name, sc, run_or_load(outdir, name, sc, partial=stored_only, study=STUDY))
             for name, sc in plan.items()}
     mesh = [rows[f"cone30_mu0.5_{m}"] for m in MESH_STUDY if f"cone30_mu0.5_{m}" in rows]
-    finest = mesh[-1]["rate_removed_um2"] if mesh else np.nan
+    mesh = [r for r in mesh if r["finished"]]
+    finest = mesh[-1]["removed_per_slide_um2"] if mesh else np.nan
     convergence = [{"mesh": r["mesh"], "elements": r["elements"], "wall_time_s": r["wall_time_s"],
-                    "rate_removed_um2": r["rate_removed_um2"],
-                    "deviation_from_finest": r["rate_removed_um2"] / finest - 1.0 if finest else np.nan}
+                    "removed_per_slide_um2": r["removed_per_slide_um2"], "eroded": r["eroded"],
+                    "removal_events_um": r["removal_events_um"],
+                    "deviation_from_finest": r["removed_per_slide_um2"] / finest - 1.0 if finest else np.nan}
                    for r in mesh]
     transitions = {}
     for mu in FRICTIONS:
@@ -180,7 +216,7 @@ def main(outdir: Path = RESULTS, only: str | None = None, stored_only: bool = Fa
                "hokkirigawa_kato_bands": PENETRATION_BANDS, "wall_time_s": time.perf_counter() - t0}
     with CurveWriter(outdir / f"{STUDY}.csv", COLUMNS) as w:
         for row in rows.values():
-            w.write(**row)
+            w.write(**{k: row[k] for k in COLUMNS})
     write_json(outdir / f"{STUDY}.json", results)
     plot(results, outdir / f"{STUDY}.png")
     return results
@@ -203,9 +239,9 @@ def plot(results: dict, path: Path) -> None:
     ax.legend(fontsize=8)
     conv = results["mesh_convergence"]
     if conv:
-        bx.plot([c["elements"] for c in conv], [c["rate_removed_um2"] for c in conv], "o-")
+        bx.plot([c["elements"] for c in conv], [c["removed_per_slide_um2"] for c in conv], "o-")
         for c in conv:
-            bx.annotate(f"{c['mesh']}, {c['wall_time_s']:.0f} s", (c["elements"], c["rate_removed_um2"]),
+            bx.annotate(f"{c['mesh']}, {c['wall_time_s']:.0f} s", (c["elements"], c["removed_per_slide_um2"]),
                         fontsize=8)
         bx.set(xscale="log", xlabel="elements", ylabel="removed volume per µm of slide, µm²",
                title="Mesh convergence (cone 30°, μ = 0.5)")

@@ -28,6 +28,7 @@ OUTPUTS = {
     "scratch": ["scratch/forces.csv"],
     "scratch_volume": ["scratch_volume.csv"],
     "scratch_to_wear": ["scratch_to_wear.csv"],
+    "material_removal": ["g65_grains.csv"],
     "fatigue": ["bond_tension.csv"],
     "four_point_bending": ["bending.csv"],
 }
@@ -228,3 +229,10 @@ def test_four_point_bending_example_is_timoshenkos_beam(tmp_path):
     out = load("four_point_bending").main(tmp_path)
     assert out["measured"] == pytest.approx(out["timoshenko"], rel=0.03)
     assert_written("four_point_bending", tmp_path)
+
+
+def test_material_removal_example_shares_the_wheels_force(tmp_path):
+    every, none = load("material_removal").main(tmp_path)
+    assert every.forces.sum() == pytest.approx(130.0, rel=1e-12) and none.loss == 0.0
+    assert (tmp_path / "g65_grains.csv").read_text().count("\n") == every.forces.size + 1
+    assert_written("material_removal", tmp_path)
