@@ -142,6 +142,8 @@ ALLOWED = {
        for label in ("+inf", "inf entry")},
     ("abrakit.dem.scenes.dense_packing", "seed", "none"): "numpy's default_rng(None): a packing from fresh entropy",
     ("abrakit.wear.wheel_surface_speed", "rpm", "zero"): "documented n >= 0: a wheel at rest has surface speed 0",
+    ("abrakit.scratch.erosion.Erosion", "length", "zero"): "documented: a nonlocal length of 0 is local erosion "
+    "(each element's own damage), which the coarse demo scenes use",
 }
 
 
@@ -167,6 +169,12 @@ def _hand_calls() -> dict[str, list[dict]]:
                                      "sand_flow": (5e-3, 6.7e-3), "sand_density": 2650.0,
                                      "coupon": (0.0254, 0.0762, 0.0127), "procedure_b_threshold": 1e-7,
                                      "measured_losses": (1e-8, 1e-6)}],
+        "abrakit.g65.grain_forces": [{"D": 256e-6, "force": 130.0}],
+        "abrakit.g65.balanced_loss": [{"D": 256e-6, "hardness": 3.23e9, "removal": lambda D_p: np.zeros_like(D_p),
+                                       "procedure": "A"}],
+        "abrakit.materials.ductile_failure.JohnsonCookFailure": [
+            {"D1": 0.05, "D2": 3.44, "D3": -2.12, "cutoff": -1.0 / 3.0, "minimum_strain": 0.01}],
+        "abrakit.scratch.erosion.Erosion": [{"length": 0.001, "residual": 1e-6}],
         "abrakit.evolution.PlasticState": [{"eps_p": np.zeros(3), "alpha": np.zeros(3)}],
         "abrakit.damage.localisation.cross_section": [
             {"mesh": bar, "area": 100.0, "depth": 0.05, "width": 1.0, "notch": 0.02}],
