@@ -377,8 +377,8 @@ class FBarKinematics(TotalLagrangianKinematics):
         return self._plain[0]
 
     def _with_plain(self, state: FBarState) -> FBarState:
-        """``state`` with α = 1, m = h = 0 in the plain elements (the F-bar terms vanish there), after the det F
-        check of the others."""
+        """``state`` after the one det F check of both paths (the F-bar elements must not be inverted), with α = 1,
+        m = h = 0 in the plain elements (the F-bar terms vanish there)."""
         plain = self.plain
         checked = state.J[~plain]
         if checked.size and not checked.min() > 0.0:
@@ -404,15 +404,13 @@ class FBarKinematics(TotalLagrangianKinematics):
             return state
         F = TotalLagrangianKinematics.strain(self, u).reshape(self.nel, self.nqp, 3, 3)
         J = np.linalg.det(F)
-        if np.any(J[~self.plain] <= 0.0):
-            raise FloatingPointError(f"det F = {J[~self.plain].min():.3g} <= 0: an element is inverted (cut the step "
-                                     "back)")
         F_inv = np.linalg.inv(np.where((J == 0.0)[..., None, None], np.eye(3), F))
         volume = self.dx.sum(axis=1)
         J_bar = np.einsum("eq,eq->e", J, self.dx) / volume
-        alpha = np.cbrt(J_bar[:, None] / J)
-        Gtg = self.gradient_transpose(np.swapaxes(F_inv, -1, -2))
-        m = np.einsum("eq,eqb->eb", J * self.dx, Gtg) / (volume * J_bar)[:, None]
+        with np.errstate(divide="ignore", invalid="ignore"):     # inverted elements: refused or plain, below
+            alpha = np.cbrt(J_bar[:, None] / J)
+            Gtg = self.gradient_transpose(np.swapaxes(F_inv, -1, -2))
+            m = np.einsum("eq,eqb->eb", J * self.dx, Gtg) / (volume * J_bar)[:, None]
         h = m[:, None, :] - Gtg
         state = self._with_plain(FBarState(F, F_inv, J, J_bar, alpha, m, h, Gtg))
         memo[0], memo[1] = np.array(u, copy=True), state
@@ -424,9 +422,7 @@ class FBarKinematics(TotalLagrangianKinematics):
         J, alpha, J_bar = np.empty((nel, nqp)), np.empty((nel, nqp)), np.empty(nel)
         m, h, Gtg = np.empty((nel, nbf)), np.empty((nel, nqp, nbf)), np.empty((nel, nqp, nbf))
         u_e = np.ascontiguousarray(np.asarray(u, dtype=float)[self.element_dofs])
-        smallest = _fbar_kernels.fbar_state(self._grad_N_c, self._dx_c, u_e, F, F_inv, J, J_bar, alpha, m, h, Gtg)
-        if not self.plain.any() and not smallest > 0.0:
-            raise FloatingPointError(f"det F = {smallest:.3g} <= 0: an element is inverted (cut the step back)")
+        _fbar_kernels.fbar_state(self._grad_N_c, self._dx_c, u_e, F, F_inv, J, J_bar, alpha, m, h, Gtg)
         return self._with_plain(FBarState(F, F_inv, J, J_bar, alpha, m, h, Gtg))
 
     @cached_property
@@ -466,7 +462,7 @@ class FBarKinematics(TotalLagrangianKinematics):
         selected = np.arange(self.nel) if elements is None else np.asarray(elements)
         plain = np.flatnonzero(self.plain[selected])
         if plain.size:                               # the plain elements: ∫ Gᵀ A G dV_0
-            G = TotalLagrangianKinematics.B(self, selected[plain])
+            G = self.gradient_operator[selected[plain]]
             AG = np.matmul(tangent[plain] * self.dx[selected[plain]][..., None, None], G)
             n = plain.size
             K[plain] = np.matmul(G.reshape(n, -1, self.nbf).transpose(0, 2, 1), AG.reshape(n, -1, self.nbf))
