@@ -42,6 +42,7 @@ import numpy as np
 import scipy.sparse as sp
 from scipy.spatial import cKDTree
 
+from abrakit.fem.kinematics import element_mean
 from abrakit.materials.ductile_failure import JohnsonCookFailure
 from abrakit.materials.finite_strain import DeferredTangentResponse, LogStrainPlasticity, ductile_damage_update
 from abrakit.validation import check_instance, check_number_fields, check_positive, check_range
@@ -177,7 +178,7 @@ class ErosionStep:
 
     def element_damage(self, state) -> np.ndarray:
         """The volume-weighted mean D of every element, (nel,)."""
-        return (state["ductile"] * self.dx).sum(axis=1) / self.dx.sum(axis=1)
+        return element_mean(state["ductile"], self.dx)
 
     def nonlocal_damage(self, state) -> np.ndarray:
         """D̄ of every element over the intact ones (module docstring); NaN where no intact element is within ℓ."""
